@@ -1,0 +1,608 @@
+#include "sluice/case/params.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#define TOML_EXCEPTIONS 1
+#include <toml++/toml.h>
+
+namespace sluice {
+
+namespace detail {
+struct BuiltinCaseText {
+  const char* name;
+  const char* text;
+};
+extern const BuiltinCaseText builtin_case_texts[];
+extern const std::size_t builtin_case_count;
+}  // namespace detail
+
+namespace {
+
+constexpr double unbounded_lower = 1.0;
+constexpr double unbounded_upper = -1.0;
+
+template <class Owner, class T>
+Param<Owner> declare(std::string key, T Owner::*field, std::string unit, ParamValue def, double lower, double upper,
+                     std::string description, std::vector<std::string> choices = {}) {
+  return Param<Owner>{std::move(key), field,  std::move(unit),    std::move(def),
+                      lower,          upper,  std::move(choices), std::move(description)};
+}
+
+}  // namespace
+
+const std::vector<Section>& case_sections() {
+  static const std::vector<Section> sections = {
+      {"case", "What this case is.", false},
+      {"domain", "Discretisation.", false},
+      {"tank", "The closed rectangular tank: inner walls at x = 0, x = width, y = 0 and (with a lid) y = height.", false},
+      {"fluid", "Fluid properties and the weakly-compressible equation of state.", false},
+      {"physics", "Forces and stabilisation.", false},
+      {"time", "Time integration.", false},
+      {"output", "What is written, and how often.", false},
+      {"water", "Regions filled with water at rest. Repeat [[water]] for each region; overlaps are merged.", true},
+      {"wall", "Solid obstacles inside the tank (walls of the tank itself come from [tank]). Repeat [[wall]] per obstacle; each is filled with wall particles to a depth of 2h inside its outline.", true},
+      {"probe", "Time series sampled during the run and written to probes/<name>.csv. Repeat [[probe]] per probe.", true},
+  };
+  return sections;
+}
+
+const std::vector<Param<Case>>& case_params() {
+  constexpr double inf = 1e300;
+  static const std::vector<Param<Case>> params = {
+      declare("case.name", &Case::name, "", std::string("unnamed"), unbounded_lower, unbounded_upper,
+              "Name of the case; the default output folder is out/<name>."),
+      declare("case.description", &Case::description, "", std::string(""), unbounded_lower, unbounded_upper,
+              "One line saying what the case is."),
+      declare("domain.dx", &Case::dx, "m", 0.2, 1e-4, 100.0, "Particle spacing (dx); particle mass is rho0 * dx^2."),
+      declare("domain.h_over_dx", &Case::h_over_dx, "", 1.3, 1.0, 3.0,
+              "Smoothing length in particle spacings: h = h_over_dx * dx. The kernel support is 2h."),
+      declare("domain.kernel", &Case::kernel, "", std::string("cubic_spline"), unbounded_lower, unbounded_upper,
+              "Smoothing kernel.", {"cubic_spline", "wendland_c2"}),
+      declare("tank.width", &Case::tank_width, "m", 20.0, 1e-3, 1e5, "Inner width of the tank."),
+      declare("tank.height", &Case::tank_height, "m", 10.0, 1e-3, 1e5, "Inner height of the tank."),
+      declare("tank.lid", &Case::tank_lid, "", true, unbounded_lower, unbounded_upper,
+              "Close the tank with a wall at y = height."),
+      declare("fluid.density", &Case::rest_density, "kg/m^3", 1000.0, 1.0, 1e5, "Rest density rho0."),
+      declare("fluid.sound_speed", &Case::sound_speed, "m/s", 20.0, 1e-2, 1e5,
+              "Numerical speed of sound c0; keep it >= 10x the largest flow speed for density changes near 1%."),
+      declare("fluid.gamma", &Case::gamma, "", 7.0, 1.0, 10.0, "Tait exponent gamma: P = B((rho/rho0)^gamma - 1), B = rho0 c0^2/gamma."),
+      declare("fluid.viscosity", &Case::viscosity, "Pa s", 0.001, 0.0, 1e6, "Dynamic viscosity mu (water: 0.001)."),
+      declare("physics.gravity", &Case::gravity, "m/s^2", Vec2{0.0, -9.81}, unbounded_lower, unbounded_upper,
+              "Gravitational acceleration [gx, gy]."),
+      declare("physics.artificial_viscosity", &Case::artificial_viscosity, "", 0.02, 0.0, 1.0,
+              "Monaghan (1992) artificial viscosity alpha (0 = off)."),
+      declare("physics.density_diffusion", &Case::density_diffusion, "", 0.1, 0.0, 1.0,
+              "delta-SPH density diffusion coefficient delta (Molteni & Colagrossi 2009, hydrostatic part removed as in Fourtakas et al. 2019; 0 = off)."),
+      declare("physics.shepard_every", &Case::shepard_every, "steps", 20, 0.0, 1e9,
+              "Re-initialise the fluid density with a Shepard filter every this many steps (0 = off)."),
+      declare("physics.hydrostatic_start", &Case::hydrostatic_start, "", true, unbounded_lower, unbounded_upper,
+              "Start water (and the walls under it) at hydrostatic density, so water at rest stays at rest."),
+      declare("time.end", &Case::end_time, "s", 30.0, 0.0, inf, "Simulated end time."),
+      declare("time.integrator", &Case::integrator, "", std::string("predictor_corrector"), unbounded_lower,
+              unbounded_upper,
+              "Time integrator: forward Euler (one force evaluation per step) or predictor-corrector (two).",
+              {"predictor_corrector", "euler"}),
+      declare("time.cfl", &Case::cfl, "", 0.2, 0.1, 0.3,
+              "Courant number C_CFL: dt = C_CFL * min(h/|v_ij|max, sqrt(h/|a|max), h/c_max)."),
+      declare("time.dt", &Case::fixed_dt, "s", 0.0, 0.0, inf, "Fixed time step; 0 = adaptive (recommended)."),
+      declare("output.interval", &Case::output_interval, "s", 0.1, 1e-9, inf, "Simulated time between frames."),
+      declare("output.formats", &Case::output_formats, "", std::vector<std::string>{"vtk", "npz"}, unbounded_lower,
+              unbounded_upper, "Frame formats: vtk (ParaView .vtu + .pvd) and npz (NumPy).", {"vtk", "npz"}),
+      declare("output.checkpoint_interval", &Case::checkpoint_interval, "s", 0.0, 0.0, inf,
+              "Simulated time between checkpoints; 0 = only at the end (and on Ctrl-C)."),
+  };
+  return params;
+}
+
+const std::vector<Param<Region>>& region_params() {
+  static const std::vector<Param<Region>> params = {
+      declare("shape", &Region::shape, "", std::string("box"), unbounded_lower, unbounded_upper, "Shape of the region.",
+              {"box"}),
+      declare("min", &Region::min, "m", std::monostate{}, unbounded_lower, unbounded_upper, "Lower-left corner [x, y] of the box."),
+      declare("max", &Region::max, "m", std::monostate{}, unbounded_lower, unbounded_upper, "Upper-right corner [x, y] of the box."),
+  };
+  return params;
+}
+
+const std::vector<Param<Probe>>& probe_params() {
+  static const std::vector<Param<Probe>> params = {
+      declare("name", &Probe::name, "", std::monostate{}, unbounded_lower, unbounded_upper,
+              "Name of the probe; its series goes to probes/<name>.csv."),
+      declare("type", &Probe::type, "", std::monostate{}, unbounded_lower, unbounded_upper,
+              "pressure: kernel-weighted fluid pressure at `point`; gauge: water height at x = point[0]; "
+              "front: furthest fluid particle from `point` along `direction`.",
+              {"pressure", "gauge", "front"}),
+      declare("point", &Probe::point, "m", std::monostate{}, unbounded_lower, unbounded_upper, "Location [x, y]."),
+      declare("direction", &Probe::direction, "", Vec2{1.0, 0.0}, unbounded_lower, unbounded_upper,
+              "Direction of a front probe."),
+      declare("band", &Probe::band, "m", 0.0, 0.0, 1e300,
+              "Half-width in x of a gauge's band of particles; 0 = one particle spacing."),
+      declare("interval", &Probe::interval, "s", 0.0, 0.0, 1e300, "Sampling interval; 0 = every step."),
+  };
+  return params;
+}
+
+namespace {
+
+template <class Owner>
+void set_defaults(Owner& o, const std::vector<Param<Owner>>& params) {
+  for (const auto& p : params) {
+    std::visit(
+        [&](auto member) {
+          using T = std::remove_reference_t<decltype(o.*member)>;
+          if (const T* v = std::get_if<T>(&p.default_value)) o.*member = *v;
+        },
+        p.field);
+  }
+}
+
+Case default_case() {
+  Case c;
+  set_defaults(c, case_params());
+  return c;
+}
+
+std::string format_number(double v) {
+  std::string s = fmt::format("{}", v);
+  if (s.find_first_of(".eEn") == std::string::npos) s += ".0";
+  return s;
+}
+
+std::string quote(const std::string& s) {
+  std::string out = "\"";
+  for (char ch : s) {
+    if (ch == '"' || ch == '\\') out += '\\';
+    out += ch;
+  }
+  return out + "\"";
+}
+
+std::string format_value(const ParamValue& v) {
+  return std::visit(
+      [](const auto& x) -> std::string {
+        using T = std::decay_t<decltype(x)>;
+        if constexpr (std::is_same_v<T, std::monostate>) return "(required)";
+        else if constexpr (std::is_same_v<T, double>) return format_number(x);
+        else if constexpr (std::is_same_v<T, int>) return fmt::format("{}", x);
+        else if constexpr (std::is_same_v<T, bool>) return x ? "true" : "false";
+        else if constexpr (std::is_same_v<T, std::string>) return quote(x);
+        else if constexpr (std::is_same_v<T, Vec2>) return fmt::format("[{}, {}]", format_number(x[0]), format_number(x[1]));
+        else {
+          std::vector<std::string> quoted;
+          for (const auto& s : x) quoted.push_back(quote(s));
+          return fmt::format("[{}]", fmt::join(quoted, ", "));
+        }
+      },
+      v);
+}
+
+template <class Owner>
+ParamValue current_value(const Owner& o, const Param<Owner>& p) {
+  return std::visit([&](auto member) -> ParamValue { return o.*member; }, p.field);
+}
+
+template <class Owner>
+std::string expectation(const Param<Owner>& p) {
+  const bool ranged = p.lower <= p.upper;
+  const std::string unit = p.unit.empty() ? "" : fmt::format(" ({})", p.unit);
+  return std::visit(
+      [&](auto member) -> std::string {
+        using T = std::remove_reference_t<decltype(std::declval<Owner&>().*member)>;
+        if constexpr (std::is_same_v<T, double>) {
+          if (!ranged) return "a number" + unit;
+          if (p.upper >= 1e299) return fmt::format("a number >= {}{}", p.lower, unit);
+          return fmt::format("a number from {} to {}{}", p.lower, p.upper, unit);
+        } else if constexpr (std::is_same_v<T, int>) {
+          if (!ranged) return "an integer" + unit;
+          if (p.upper >= 1e8) return fmt::format("an integer >= {}{}", p.lower, unit);
+          return fmt::format("an integer from {} to {}{}", p.lower, p.upper, unit);
+        } else if constexpr (std::is_same_v<T, bool>) {
+          return "true or false";
+        } else if constexpr (std::is_same_v<T, std::string>) {
+          if (p.choices.empty()) return "a string in quotes";
+          return fmt::format("one of \"{}\"", fmt::join(p.choices, "\", \""));
+        } else if constexpr (std::is_same_v<T, Vec2>) {
+          return "an array of two numbers [x, y]" + unit;
+        } else {
+          return fmt::format("an array of strings, each one of \"{}\"", fmt::join(p.choices, "\", \""));
+        }
+      },
+      p.field);
+}
+
+std::string describe_node(const toml::node& n) {
+  std::ostringstream out;
+  if (n.is_table()) return "a table";
+  if (n.is_array_of_tables()) return "an array of tables";
+  n.visit([&](const auto& v) { out << v; });
+  std::string s = out.str();
+  if (s.size() > 60) s = s.substr(0, 57) + "...";
+  return s;
+}
+
+std::string where(const std::string& source, const toml::node& n) {
+  const auto& region = n.source();
+  if (region.begin.line == 0) return source;
+  return fmt::format("{}:{}:{}", source, region.begin.line, region.begin.column);
+}
+
+[[noreturn]] void fail_value(const std::string& at, const std::string& key, const toml::node& n, const std::string& problem,
+                             const std::string& expected) {
+  throw CaseError(fmt::format("{}: {} = {}: {}; expected {}", at, key, describe_node(n), problem, expected));
+}
+
+template <class Owner>
+void assign(Owner& o, const Param<Owner>& p, const toml::node& n, const std::string& at, const std::string& key) {
+  const std::string expected = expectation(p);
+  auto check_range = [&](double v) {
+    if (!std::isfinite(v)) fail_value(at, key, n, "not a finite number", expected);
+    if (p.lower <= p.upper && (v < p.lower || v > p.upper)) fail_value(at, key, n, "out of range", expected);
+  };
+  auto as_number = [&](const toml::node& x) -> std::optional<double> {
+    if (x.is_floating_point()) return x.as_floating_point()->get();
+    if (x.is_integer()) return static_cast<double>(x.as_integer()->get());
+    return std::nullopt;
+  };
+  std::visit(
+      [&](auto member) {
+        using T = std::remove_reference_t<decltype(o.*member)>;
+        if constexpr (std::is_same_v<T, double>) {
+          auto v = as_number(n);
+          if (!v) fail_value(at, key, n, "wrong type", expected);
+          check_range(*v);
+          o.*member = *v;
+        } else if constexpr (std::is_same_v<T, int>) {
+          if (!n.is_integer()) fail_value(at, key, n, "wrong type", expected);
+          const auto v = n.as_integer()->get();
+          if (v < -2147483647LL || v > 2147483647LL) fail_value(at, key, n, "out of range", expected);
+          check_range(static_cast<double>(v));
+          o.*member = static_cast<int>(v);
+        } else if constexpr (std::is_same_v<T, bool>) {
+          if (!n.is_boolean()) fail_value(at, key, n, "wrong type", expected);
+          o.*member = n.as_boolean()->get();
+        } else if constexpr (std::is_same_v<T, std::string>) {
+          if (!n.is_string()) fail_value(at, key, n, "wrong type", expected);
+          std::string v = n.as_string()->get();
+          if (!p.choices.empty() && std::find(p.choices.begin(), p.choices.end(), v) == p.choices.end()) {
+            const auto near = closest_match(v, p.choices);
+            fail_value(at, key, n, near ? fmt::format("unknown value (did you mean \"{}\"?)", *near) : "unknown value",
+                       expected);
+          }
+          o.*member = std::move(v);
+        } else if constexpr (std::is_same_v<T, Vec2>) {
+          const toml::array* a = n.as_array();
+          if (a == nullptr || a->size() != 2) fail_value(at, key, n, "wrong type", expected);
+          Vec2 v{};
+          for (int d = 0; d < 2; ++d) {
+            auto x = as_number(*a->get(static_cast<std::size_t>(d)));
+            if (!x || !std::isfinite(*x)) fail_value(at, key, n, "wrong type", expected);
+            v[d] = *x;
+          }
+          o.*member = v;
+        } else {
+          const toml::array* a = n.as_array();
+          if (a == nullptr) fail_value(at, key, n, "wrong type", expected);
+          std::vector<std::string> v;
+          for (const auto& item : *a) {
+            if (!item.is_string()) fail_value(at, key, n, "wrong type", expected);
+            const std::string s = item.as_string()->get();
+            if (std::find(p.choices.begin(), p.choices.end(), s) == p.choices.end())
+              fail_value(at, key, n, fmt::format("unknown entry \"{}\"", s), expected);
+            if (std::find(v.begin(), v.end(), s) != v.end())
+              fail_value(at, key, n, fmt::format("\"{}\" listed twice", s), expected);
+            v.push_back(s);
+          }
+          o.*member = std::move(v);
+        }
+      },
+      p.field);
+}
+
+template <class Owner>
+const Param<Owner>* find_param(const std::vector<Param<Owner>>& params, std::string_view key) {
+  for (const auto& p : params)
+    if (p.key == key) return &p;
+  return nullptr;
+}
+
+std::vector<std::string> all_keys() {
+  std::vector<std::string> keys;
+  for (const auto& p : case_params()) keys.push_back(p.key);
+  for (const auto& p : region_params()) {
+    keys.push_back("water." + p.key);
+    keys.push_back("wall." + p.key);
+  }
+  for (const auto& p : probe_params()) keys.push_back("probe." + p.key);
+  return keys;
+}
+
+[[noreturn]] void fail_unknown_key(const std::string& at, const std::string& key,
+                                   const std::vector<std::string>& candidates) {
+  const auto near = closest_match(key, candidates);
+  if (near) throw CaseError(fmt::format("{}: unknown key '{}'; did you mean '{}'?", at, key, *near));
+  throw CaseError(fmt::format("{}: unknown key '{}'; see `sluice init` for every key", at, key));
+}
+
+template <class Owner>
+Owner parse_item(const toml::table& t, const std::vector<Param<Owner>>& params, const std::string& section,
+                 std::size_t index, const std::string& source) {
+  Owner item{};
+  set_defaults(item, params);
+  std::set<std::string> given;
+  for (const auto& [k, node] : t) {
+    const std::string key(k.str());
+    const std::string full = fmt::format("{}[{}].{}", section, index, key);
+    const auto* p = find_param(params, key);
+    if (p == nullptr) {
+      std::vector<std::string> candidates;
+      for (const auto& q : params) candidates.push_back(q.key);
+      const auto near = closest_match(key, candidates);
+      throw CaseError(fmt::format("{}: unknown key '{}' in [[{}]]{}", where(source, node), key, section,
+                                  near ? fmt::format("; did you mean '{}'?", *near)
+                                       : fmt::format("; expected one of: {}", fmt::join(candidates, ", "))));
+    }
+    assign(item, *p, node, where(source, node), full);
+    given.insert(key);
+  }
+  for (const auto& p : params)
+    if (std::holds_alternative<std::monostate>(p.default_value) && !given.contains(p.key))
+      throw CaseError(fmt::format("{}: [[{}]] number {} has no '{}' ({}); expected {}", where(source, t), section,
+                                  index + 1, p.key, p.description, expectation(p)));
+  return item;
+}
+
+}  // namespace
+
+Case parse_case(std::string_view toml_text, const std::string& source) {
+  toml::table root;
+  try {
+    root = toml::parse(toml_text, source);
+  } catch (const toml::parse_error& e) {
+    const auto& b = e.source().begin;
+    throw CaseError(fmt::format("{}:{}:{}: not valid TOML: {}", source, b.line, b.column, e.description()));
+  }
+  Case c = default_case();
+  std::vector<std::string> section_names;
+  for (const auto& s : case_sections()) section_names.push_back(s.name);
+
+  for (const auto& [k, node] : root) {
+    const std::string name(k.str());
+    const auto section = std::find_if(case_sections().begin(), case_sections().end(),
+                                      [&](const Section& s) { return s.name == name; });
+    if (section == case_sections().end()) {
+      const auto near = closest_match(name, section_names);
+      throw CaseError(fmt::format("{}: unknown section '{}'{}", where(source, node), name,
+                                  near ? fmt::format("; did you mean '{}'?", *near)
+                                       : fmt::format("; expected one of: {}", fmt::join(section_names, ", "))));
+    }
+    if (section->is_array) {
+      const toml::array* items = node.as_array();
+      if (items == nullptr || !items->is_array_of_tables())
+        throw CaseError(fmt::format("{}: '{}' must be written as [[{}]] tables", where(source, node), name, name));
+      std::size_t index = 0;
+      for (const auto& item : *items) {
+        const toml::table& t = *item.as_table();
+        if (name == "water") c.water.push_back(parse_item(t, region_params(), name, index, source));
+        else if (name == "wall") c.walls.push_back(parse_item(t, region_params(), name, index, source));
+        else c.probes.push_back(parse_item(t, probe_params(), name, index, source));
+        ++index;
+      }
+      continue;
+    }
+    const toml::table* table = node.as_table();
+    if (table == nullptr)
+      throw CaseError(fmt::format("{}: '{}' must be a section [{}] holding keys", where(source, node), name, name));
+    for (const auto& [sub, value] : *table) {
+      const std::string key = name + "." + std::string(sub.str());
+      const auto* p = find_param(case_params(), key);
+      if (p == nullptr) fail_unknown_key(where(source, value), key, all_keys());
+      assign(c, *p, value, where(source, value), key);
+    }
+  }
+  validate_case(c, source);
+  return c;
+}
+
+Case load_case_file(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec))
+    throw CaseError(fmt::format("{}: no such case file (and no built-in case of that name; see `sluice cases`)",
+                                path.string()));
+  if (std::filesystem::is_directory(path, ec))
+    throw CaseError(fmt::format("{}: is a directory; expected a case file (.toml)", path.string()));
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw CaseError(fmt::format("{}: cannot be read", path.string()));
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_case(text.str(), path.string());
+}
+
+void apply_override(Case& c, std::string_view assignment) {
+  const std::string at = fmt::format("--set {}", assignment);
+  const auto eq = assignment.find('=');
+  if (eq == std::string_view::npos)
+    throw CaseError(fmt::format("{}: expected key=value, for example --set domain.dx=0.1", at));
+  auto trim = [](std::string_view s) {
+    while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
+    while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
+    return std::string(s);
+  };
+  const std::string key = trim(assignment.substr(0, eq));
+  const std::string text = trim(assignment.substr(eq + 1));
+
+  toml::table holder;
+  try {
+    const std::string document = "value = " + text;
+    holder = toml::parse(std::string_view(document), std::string_view("--set"));
+  } catch (const toml::parse_error&) {
+    holder = toml::table{{"value", text}};  // a bare word: take it as a string
+  }
+  const toml::node& value = *holder.get("value");
+
+  static const std::regex item_key(R"(^(water|wall|probe)(?:\[(\d+)\]|\.(\d+))\.(\w+)$)");
+  std::smatch m;
+  if (std::regex_match(key, m, item_key)) {
+    const std::string section = m[1];
+    const std::size_t index = std::stoul(m[2].matched ? m[2].str() : m[3].str());
+    const std::string sub = m[4];
+    auto apply = [&](auto& items, const auto& params) {
+      if (index >= items.size())
+        throw CaseError(fmt::format("{}: the case has {} [[{}]] entries (numbered from 0); there is no {}", at,
+                                    items.size(), section, index));
+      const auto* p = find_param(params, sub);
+      if (p == nullptr) fail_unknown_key(at, section + "." + sub, all_keys());
+      assign(items[index], *p, value, at, key);
+    };
+    if (section == "water") apply(c.water, region_params());
+    else if (section == "wall") apply(c.walls, region_params());
+    else apply(c.probes, probe_params());
+  } else {
+    const auto* p = find_param(case_params(), key);
+    if (p == nullptr) fail_unknown_key(at, key, all_keys());
+    assign(c, *p, value, at, key);
+  }
+  validate_case(c, at);
+}
+
+void validate_case(const Case& c, const std::string& source) {
+  auto fail = [&](const std::string& what) { throw CaseError(fmt::format("{}: {}", source, what)); };
+  const double h = c.smoothing_length();
+  if (c.tank_width < 2.0 * c.dx || c.tank_height < 2.0 * c.dx)
+    fail(fmt::format("the tank ({} m x {} m) is smaller than two particle spacings (dx = {} m)", c.tank_width,
+                     c.tank_height, c.dx));
+  if (c.water.empty()) fail("no [[water]] region; a case needs at least one");
+  auto check_box = [&](const Region& r, const std::string& what, std::size_t i) {
+    if (!(r.min[0] < r.max[0] && r.min[1] < r.max[1]))
+      fail(fmt::format("[[{}]] number {}: min {} must be below and left of max {}", what, i + 1,
+                       format_value(r.min), format_value(r.max)));
+  };
+  for (std::size_t i = 0; i < c.water.size(); ++i) {
+    const Region& r = c.water[i];
+    check_box(r, "water", i);
+    const double tol = 1e-9 * std::max(c.tank_width, c.tank_height);
+    if (r.min[0] < -tol || r.min[1] < -tol || r.max[0] > c.tank_width + tol || r.max[1] > c.tank_height + tol)
+      fail(fmt::format("[[water]] number {} (min {}, max {}) reaches outside the tank [0, {}] x [0, {}]", i + 1,
+                       format_value(r.min), format_value(r.max), c.tank_width, c.tank_height));
+  }
+  for (std::size_t i = 0; i < c.walls.size(); ++i) check_box(c.walls[i], "wall", i);
+  std::set<std::string> names;
+  for (std::size_t i = 0; i < c.probes.size(); ++i) {
+    const Probe& p = c.probes[i];
+    if (p.name.empty() || p.name.find_first_of("/\\ ") != std::string::npos)
+      fail(fmt::format("[[probe]] number {}: name \"{}\" must be non-empty, without spaces or slashes", i + 1, p.name));
+    if (!names.insert(p.name).second) fail(fmt::format("[[probe]] name \"{}\" is used twice", p.name));
+    if (p.type == "front" && norm(p.direction) == 0.0)
+      fail(fmt::format("[[probe]] \"{}\": direction must not be [0, 0]", p.name));
+  }
+  if (c.output_formats.empty()) fail("output.formats is empty; expected at least one of \"vtk\", \"npz\"");
+  const double max_cells = 5e8;
+  if ((c.tank_width + 4 * h) * (c.tank_height + 4 * h) / (c.dx * c.dx) > max_cells)
+    fail(fmt::format("domain.dx = {} m gives more than {:.0e} lattice points in the tank; expected a larger dx",
+                     c.dx, max_cells));
+}
+
+std::string case_template(const Case& c) {
+  std::string out;
+  out += "# sluice case file (TOML). Every key is listed with its unit, default and allowed range;\n";
+  out += "# delete a key to use its default. Run it with:  sluice run <this file>\n";
+  auto comment_lines = [&](const std::string& text, const std::string& indent) {
+    out += indent + "# " + text + "\n";
+  };
+  auto describe = [&](const auto& p, const std::string& indent) {
+    comment_lines(p.description, indent);
+    std::vector<std::string> facts;
+    if (!p.unit.empty()) facts.push_back("unit: " + p.unit);
+    facts.push_back(std::holds_alternative<std::monostate>(p.default_value)
+                        ? std::string("required")
+                        : "default: " + format_value(p.default_value));
+    facts.push_back("allowed: " + expectation(p));
+    comment_lines(fmt::format("{}", fmt::join(facts, " | ")), indent);
+  };
+  for (const auto& s : case_sections()) {
+    out += "\n";
+    comment_lines(s.description, "");
+    if (!s.is_array) {
+      out += fmt::format("[{}]\n", s.name);
+      for (const auto& p : case_params()) {
+        if (p.key.rfind(s.name + ".", 0) != 0) continue;
+        describe(p, "");
+        out += fmt::format("{} = {}\n", p.key.substr(s.name.size() + 1), format_value(current_value(c, p)));
+      }
+      continue;
+    }
+    auto write_items = [&](const auto& items, const auto& params) {
+      comment_lines(fmt::format("Keys of each [[{}]]:", s.name), "");
+      for (const auto& p : params) {
+        out += fmt::format("#   {}:\n", p.key);
+        describe(p, "#     ");
+      }
+      if (items.empty()) comment_lines(fmt::format("(this case has no [[{}]] entries)", s.name), "");
+      for (const auto& item : items) {
+        out += fmt::format("[[{}]]\n", s.name);
+        for (const auto& p : params) out += fmt::format("{} = {}\n", p.key, format_value(current_value(item, p)));
+      }
+    };
+    if (s.name == "water") write_items(c.water, region_params());
+    else if (s.name == "wall") write_items(c.walls, region_params());
+    else write_items(c.probes, probe_params());
+  }
+  return out;
+}
+
+const std::vector<BuiltinCase>& builtin_cases() {
+  static const std::vector<BuiltinCase> cases = [] {
+    std::vector<BuiltinCase> v;
+    for (std::size_t i = 0; i < detail::builtin_case_count; ++i)
+      v.push_back({detail::builtin_case_texts[i].name, detail::builtin_case_texts[i].text});
+    return v;
+  }();
+  return cases;
+}
+
+std::optional<Case> load_builtin_case(std::string_view name) {
+  for (const auto& b : builtin_cases())
+    if (b.name == name) return parse_case(b.text, fmt::format("built-in case '{}'", b.name));
+  return std::nullopt;
+}
+
+std::optional<std::string> closest_match(std::string_view word, const std::vector<std::string>& candidates) {
+  auto distance = [](std::string_view a, std::string_view b) {
+    std::vector<std::size_t> row(b.size() + 1);
+    for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (std::size_t i = 1; i <= a.size(); ++i) {
+      std::size_t diagonal = row[0];
+      row[0] = i;
+      for (std::size_t j = 1; j <= b.size(); ++j) {
+        const std::size_t up = row[j];
+        row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+        diagonal = up;
+      }
+    }
+    return row[b.size()];
+  };
+  std::optional<std::string> best;
+  std::size_t best_distance = std::max<std::size_t>(2, word.size() / 3) + 1;
+  for (const auto& c : candidates) {
+    // Compare with the whole key and with its last part, so "domain.ddx" and "ddx" both find "domain.dx".
+    std::size_t d = distance(word, c);
+    const auto dot_pos = c.rfind('.');
+    if (dot_pos != std::string::npos && word.find('.') == std::string_view::npos)
+      d = std::min(d, distance(word, std::string_view(c).substr(dot_pos + 1)));
+    if (d < best_distance) {
+      best_distance = d;
+      best = c;
+    }
+  }
+  return best;
+}
+
+}  // namespace sluice

@@ -1,0 +1,85 @@
+// Particle storage: one array per field (structure of arrays), free of global state.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <numeric>
+#include <vector>
+
+namespace sluice {
+
+enum class Kind : std::uint8_t { fluid = 0, wall = 1 };
+
+template <int Dim>
+struct Particles {
+  static constexpr int dim = Dim;
+
+  // State.
+  std::array<std::vector<double>, Dim> position;
+  std::array<std::vector<double>, Dim> velocity;
+  std::vector<double> density;
+  std::vector<Kind> kind;
+  std::vector<std::uint32_t> id;  // stable identity; the arrays are reordered by cell
+
+  // Rates from the last force evaluation.
+  std::array<std::vector<double>, Dim> acceleration;
+  std::vector<double> density_rate;
+
+  // State at the start of a step (multi-stage integrators).
+  std::array<std::vector<double>, Dim> position_start;
+  std::array<std::vector<double>, Dim> velocity_start;
+  std::vector<double> density_start;
+
+  // Set when a particle was put back from inside a wall; its density is re-interpolated
+  // from its neighbours at the next force evaluation.
+  std::vector<std::uint8_t> needs_density_repair;
+
+  [[nodiscard]] std::size_t size() const { return density.size(); }
+
+  void resize(std::size_t n) {
+    for (auto* fields : {&position, &velocity, &acceleration, &position_start, &velocity_start})
+      for (auto& f : *fields) f.resize(n, 0.0);
+    for (auto* f : {&density, &density_rate, &density_start}) f->resize(n, 0.0);
+    kind.resize(n, Kind::fluid);
+    id.resize(n, 0);
+    needs_density_repair.resize(n, 0);
+  }
+
+  void add(const std::array<double, Dim>& x, Kind k, double rho) {
+    const std::size_t n = size();
+    resize(n + 1);
+    for (int d = 0; d < Dim; ++d) position[d][n] = x[d];
+    density[n] = rho;
+    kind[n] = k;
+    id[n] = static_cast<std::uint32_t>(n);
+  }
+
+  [[nodiscard]] bool is_fluid(std::size_t i) const { return kind[i] == Kind::fluid; }
+
+  // Reorders every field so that new index k holds what old index order[k] held.
+  // `scratch` avoids an allocation per call.
+  void permute(const std::vector<std::uint32_t>& order, std::vector<double>& scratch) {
+    const std::size_t n = size();
+    scratch.resize(n);
+    auto apply = [&](std::vector<double>& field) {
+      for (std::size_t k = 0; k < n; ++k) scratch[k] = field[order[k]];
+      field.swap(scratch);
+    };
+    for (auto* fields : {&position, &velocity, &acceleration, &position_start, &velocity_start})
+      for (auto& f : *fields) apply(f);
+    for (auto* f : {&density, &density_rate, &density_start}) apply(*f);
+    permute_small(kind, order);
+    permute_small(id, order);
+    permute_small(needs_density_repair, order);
+  }
+
+ private:
+  template <class T>
+  static void permute_small(std::vector<T>& field, const std::vector<std::uint32_t>& order) {
+    std::vector<T> out(field.size());
+    for (std::size_t k = 0; k < field.size(); ++k) out[k] = field[order[k]];
+    field.swap(out);
+  }
+};
+
+}  // namespace sluice

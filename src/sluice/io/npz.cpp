@@ -1,0 +1,240 @@
+#include "sluice/io/npz.hpp"
+
+#include <fmt/format.h>
+#include <zlib.h>
+
+#include <bit>
+#include <cstring>
+#include <regex>
+
+namespace sluice {
+
+static_assert(std::endian::native == std::endian::little, "sluice writes little-endian files");
+
+template <>
+std::string npy_dtype<double>() { return "<f8"; }
+template <>
+std::string npy_dtype<float>() { return "<f4"; }
+template <>
+std::string npy_dtype<std::uint8_t>() { return "|u1"; }
+template <>
+std::string npy_dtype<std::uint32_t>() { return "<u4"; }
+template <>
+std::string npy_dtype<std::int64_t>() { return "<i8"; }
+
+template <class T>
+NpyArray NpyArray::of(const std::vector<T>& values, std::vector<std::size_t> shape) {
+  NpyArray a;
+  a.dtype = npy_dtype<T>();
+  a.shape = std::move(shape);
+  a.bytes.assign(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+  return a;
+}
+
+std::size_t NpyArray::element_count() const {
+  std::size_t n = 1;
+  for (std::size_t s : shape) n *= s;
+  return n;
+}
+
+template <class T>
+std::vector<T> NpyArray::values() const {
+  if (dtype != npy_dtype<T>())
+    throw FormatError(fmt::format("array has dtype {}, expected {}", dtype, npy_dtype<T>()));
+  if (bytes.size() != element_count() * sizeof(T))
+    throw FormatError(fmt::format("array holds {} bytes, its shape needs {}", bytes.size(), element_count() * sizeof(T)));
+  std::vector<T> v(element_count());
+  std::memcpy(v.data(), bytes.data(), bytes.size());
+  return v;
+}
+
+template NpyArray NpyArray::of(const std::vector<double>&, std::vector<std::size_t>);
+template NpyArray NpyArray::of(const std::vector<std::uint8_t>&, std::vector<std::size_t>);
+template NpyArray NpyArray::of(const std::vector<std::uint32_t>&, std::vector<std::size_t>);
+template NpyArray NpyArray::of(const std::vector<std::int64_t>&, std::vector<std::size_t>);
+template std::vector<double> NpyArray::values() const;
+template std::vector<std::uint8_t> NpyArray::values() const;
+template std::vector<std::uint32_t> NpyArray::values() const;
+template std::vector<std::int64_t> NpyArray::values() const;
+
+namespace {
+
+template <class T>
+void put(std::string& out, T value) {
+  out.append(reinterpret_cast<const char*>(&value), sizeof(T));
+}
+
+template <class T>
+T get(const std::string& in, std::size_t at) {
+  if (at + sizeof(T) > in.size()) throw FormatError("truncated zip structure");
+  T value;
+  std::memcpy(&value, in.data() + at, sizeof(T));
+  return value;
+}
+
+std::string npy_bytes(const NpyArray& a) {
+  std::string shape;
+  for (std::size_t s : a.shape) shape += fmt::format("{}, ", s);
+  if (a.shape.size() > 1) shape.resize(shape.size() - 2);
+  else if (a.shape.size() == 1) shape.resize(shape.size() - 1);
+  std::string header = fmt::format("{{'descr': '{}', 'fortran_order': False, 'shape': ({}), }}", a.dtype, shape);
+  // Pad so the data starts at a multiple of 64 bytes (magic 6 + version 2 + length 2 + header).
+  const std::size_t total = 10 + header.size() + 1;
+  header.append((64 - total % 64) % 64, ' ');
+  header += '\n';
+  std::string out = "\x93NUMPY";
+  out += '\x01';
+  out += '\x00';
+  put<std::uint16_t>(out, static_cast<std::uint16_t>(header.size()));
+  out += header;
+  out += a.bytes;
+  return out;
+}
+
+NpyArray parse_npy(const std::string& b, const std::string& name) {
+  if (b.size() < 10 || b.compare(0, 6, "\x93NUMPY") != 0) throw FormatError(fmt::format("{}: not a .npy array", name));
+  const int major = static_cast<unsigned char>(b[6]);
+  std::size_t header_len = 0, start = 0;
+  if (major == 1) {
+    header_len = get<std::uint16_t>(b, 8);
+    start = 10;
+  } else if (major == 2 || major == 3) {
+    header_len = get<std::uint32_t>(b, 8);
+    start = 12;
+  } else {
+    throw FormatError(fmt::format("{}: unsupported .npy version {}", name, major));
+  }
+  if (start + header_len > b.size()) throw FormatError(fmt::format("{}: truncated .npy header", name));
+  const std::string header = b.substr(start, header_len);
+  static const std::regex descr(R"('descr':\s*'([^']+)')");
+  static const std::regex fortran(R"('fortran_order':\s*(True|False))");
+  static const std::regex shape_re(R"('shape':\s*\(([^)]*)\))");
+  std::smatch m;
+  NpyArray a;
+  if (!std::regex_search(header, m, descr)) throw FormatError(fmt::format("{}: .npy header has no descr", name));
+  a.dtype = m[1];
+  if (!std::regex_search(header, m, fortran) || m[1] == "True")
+    throw FormatError(fmt::format("{}: expected a C-order array", name));
+  if (!std::regex_search(header, m, shape_re)) throw FormatError(fmt::format("{}: .npy header has no shape", name));
+  const std::string dims = m[1];
+  static const std::regex number(R"(\d+)");
+  for (auto it = std::sregex_iterator(dims.begin(), dims.end(), number); it != std::sregex_iterator(); ++it)
+    a.shape.push_back(std::stoull(it->str()));
+  a.bytes = b.substr(start + header_len);
+  return a;
+}
+
+// MS-DOS date/time of 1980-01-01 00:00: fixed, so identical runs give identical files.
+constexpr std::uint16_t dos_time = 0;
+constexpr std::uint16_t dos_date = (1 << 5) | 1;
+
+}  // namespace
+
+std::string make_npz(const std::vector<std::pair<std::string, NpyArray>>& arrays) {
+  std::string out, directory;
+  for (const auto& [name, array] : arrays) {
+    const std::string file = name + ".npy";
+    const std::string data = npy_bytes(array);
+    if (out.size() > 0xFFFFFFFFu || data.size() > 0xFFFFFFFFu)
+      throw FormatError("npz entry larger than 4 GiB (zip64 is not supported)");
+    const auto crc = static_cast<std::uint32_t>(
+        crc32(0L, reinterpret_cast<const Bytef*>(data.data()), static_cast<uInt>(data.size())));
+    const auto offset = static_cast<std::uint32_t>(out.size());
+    const auto size = static_cast<std::uint32_t>(data.size());
+    put<std::uint32_t>(out, 0x04034b50);
+    put<std::uint16_t>(out, 20);  // version needed
+    put<std::uint16_t>(out, 0);   // flags
+    put<std::uint16_t>(out, 0);   // stored
+    put<std::uint16_t>(out, dos_time);
+    put<std::uint16_t>(out, dos_date);
+    put<std::uint32_t>(out, crc);
+    put<std::uint32_t>(out, size);
+    put<std::uint32_t>(out, size);
+    put<std::uint16_t>(out, static_cast<std::uint16_t>(file.size()));
+    put<std::uint16_t>(out, 0);
+    out += file;
+    out += data;
+
+    put<std::uint32_t>(directory, 0x02014b50);
+    put<std::uint16_t>(directory, 20);  // made by
+    put<std::uint16_t>(directory, 20);  // needed
+    put<std::uint16_t>(directory, 0);
+    put<std::uint16_t>(directory, 0);
+    put<std::uint16_t>(directory, dos_time);
+    put<std::uint16_t>(directory, dos_date);
+    put<std::uint32_t>(directory, crc);
+    put<std::uint32_t>(directory, size);
+    put<std::uint32_t>(directory, size);
+    put<std::uint16_t>(directory, static_cast<std::uint16_t>(file.size()));
+    put<std::uint16_t>(directory, 0);  // extra
+    put<std::uint16_t>(directory, 0);  // comment
+    put<std::uint16_t>(directory, 0);  // disk
+    put<std::uint16_t>(directory, 0);  // internal attributes
+    put<std::uint32_t>(directory, 0);  // external attributes
+    put<std::uint32_t>(directory, offset);
+    directory += file;
+  }
+  const auto directory_offset = static_cast<std::uint32_t>(out.size());
+  out += directory;
+  put<std::uint32_t>(out, 0x06054b50);
+  put<std::uint16_t>(out, 0);
+  put<std::uint16_t>(out, 0);
+  put<std::uint16_t>(out, static_cast<std::uint16_t>(arrays.size()));
+  put<std::uint16_t>(out, static_cast<std::uint16_t>(arrays.size()));
+  put<std::uint32_t>(out, static_cast<std::uint32_t>(directory.size()));
+  put<std::uint32_t>(out, directory_offset);
+  put<std::uint16_t>(out, 0);
+  return out;
+}
+
+std::map<std::string, NpyArray> parse_npz(const std::string& bytes) {
+  if (bytes.size() < 22) throw FormatError("too short to be an .npz (zip) file");
+  // The end-of-central-directory record is last (we write no archive comment; allow a short one).
+  std::size_t eocd = std::string::npos;
+  for (std::size_t at = bytes.size() - 22;; --at) {
+    if (get<std::uint32_t>(bytes, at) == 0x06054b50) {
+      eocd = at;
+      break;
+    }
+    if (at == 0 || bytes.size() - at > 22 + 0xFFFF) break;
+  }
+  if (eocd == std::string::npos) throw FormatError("not a zip archive (no end-of-central-directory record)");
+  const std::size_t entries = get<std::uint16_t>(bytes, eocd + 10);
+  std::size_t at = get<std::uint32_t>(bytes, eocd + 16);
+  std::map<std::string, NpyArray> arrays;
+  for (std::size_t e = 0; e < entries; ++e) {
+    if (get<std::uint32_t>(bytes, at) != 0x02014b50) throw FormatError("corrupt zip central directory");
+    const std::uint16_t method = get<std::uint16_t>(bytes, at + 10);
+    const std::uint32_t crc = get<std::uint32_t>(bytes, at + 16);
+    const std::uint32_t csize = get<std::uint32_t>(bytes, at + 20);
+    const std::uint32_t usize = get<std::uint32_t>(bytes, at + 24);
+    const std::uint16_t name_len = get<std::uint16_t>(bytes, at + 28);
+    const std::uint16_t extra_len = get<std::uint16_t>(bytes, at + 30);
+    const std::uint16_t comment_len = get<std::uint16_t>(bytes, at + 32);
+    const std::uint32_t local = get<std::uint32_t>(bytes, at + 42);
+    if (at + 46 + name_len > bytes.size()) throw FormatError("truncated zip central directory");
+    const std::string name = bytes.substr(at + 46, name_len);
+    at += 46 + name_len + extra_len + comment_len;
+    if (method != 0 || csize != usize)
+      throw FormatError(fmt::format("{}: compressed zip entries are not supported (sluice writes stored entries)", name));
+    if (get<std::uint32_t>(bytes, local) != 0x04034b50) throw FormatError(fmt::format("{}: corrupt local header", name));
+    const std::size_t data_at = local + 30 + get<std::uint16_t>(bytes, local + 26) + get<std::uint16_t>(bytes, local + 28);
+    if (data_at + usize > bytes.size()) throw FormatError(fmt::format("{}: truncated data", name));
+    const std::string data = bytes.substr(data_at, usize);
+    const auto actual = static_cast<std::uint32_t>(
+        crc32(0L, reinterpret_cast<const Bytef*>(data.data()), static_cast<uInt>(data.size())));
+    if (actual != crc) throw FormatError(fmt::format("{}: checksum mismatch (file damaged)", name));
+    std::string key = name;
+    if (key.size() > 4 && key.ends_with(".npy")) key.resize(key.size() - 4);
+    NpyArray array = parse_npy(data, name);
+    const std::string& dt = array.dtype;
+    if (dt.size() != 3 || std::string("<|>").find(dt[0]) == std::string::npos || dt[2] < '1' || dt[2] > '8')
+      throw FormatError(fmt::format("{}: unsupported dtype '{}'", name, dt));
+    if (array.bytes.size() != array.element_count() * static_cast<std::size_t>(dt[2] - '0'))
+      throw FormatError(fmt::format("{}: data size does not match its shape", name));
+    arrays.emplace(key, std::move(array));
+  }
+  return arrays;
+}
+
+}  // namespace sluice

@@ -1,0 +1,40 @@
+// Probes and gauges declared in the case, sampled during the run:
+//   pressure: kernel-weighted (Shepard-normalised) pressure of the fluid particles around a point;
+//   gauge:    water height at x: top of the highest fluid particle (y + dx/2) within a band around x;
+//   front:    furthest fluid particle from a point along a direction (its distance, and x, y).
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "sluice/case/case.hpp"
+#include "sluice/simulation.hpp"
+
+namespace sluice {
+
+// One sample of a probe: the values after the time column.
+std::vector<double> sample_probe(const Probe& probe, const Simulation& sim);
+std::string probe_header(const Probe& probe);
+
+class ProbeRecorder {
+ public:
+  // Rows already on disk after `keep_until` are dropped (a restart continues from there).
+  ProbeRecorder(const std::vector<Probe>& probes, std::filesystem::path dir, double keep_until, bool fresh);
+  void sample(const Simulation& sim);  // called after every step; honours each probe's interval
+  void flush();                        // rewrites each CSV atomically with all rows so far
+
+ private:
+  struct Series {
+    Probe probe;
+    std::string text;  // CSV so far
+    std::int64_t next_sample = 0;
+  };
+  std::filesystem::path dir_;
+  std::vector<Series> series_;
+};
+
+// Keeps the header and the rows whose first column is <= t_max; used to continue CSVs on restart.
+std::string csv_rows_until(const std::string& csv, double t_max);
+
+}  // namespace sluice

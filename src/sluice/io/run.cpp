@@ -1,0 +1,253 @@
+#include "sluice/io/run.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <memory>
+
+#include "sluice/io/atomic_file.hpp"
+#include "sluice/io/checkpoint.hpp"
+#include "sluice/io/frames.hpp"
+#include "sluice/io/probes.hpp"
+
+namespace sluice {
+
+namespace {
+
+using steady = std::chrono::steady_clock;
+
+double seconds_since(steady::time_point t0) {
+  return std::chrono::duration<double>(steady::now() - t0).count();
+}
+
+std::string format_duration(double seconds) {
+  if (!std::isfinite(seconds) || seconds < 0) return "--:--";
+  const long s = std::lround(seconds);
+  if (s >= 3600) return fmt::format("{}:{:02}:{:02}", s / 3600, (s / 60) % 60, s % 60);
+  return fmt::format("{}:{:02}", s / 60, s % 60);
+}
+
+// Index of the first frame time k * interval strictly after t (frames land exactly on those times).
+std::int64_t next_index_after(double t, double interval) {
+  return static_cast<std::int64_t>(std::floor(t / interval + 1e-9)) + 1;
+}
+
+void remove_previous_outputs(const std::filesystem::path& dir, const std::string& case_name) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  for (const char* name : {output_files::diagnostics, output_files::checkpoint, output_files::summary})
+    fs::remove(dir / name, ec);
+  fs::remove(dir / (case_name + ".pvd"), ec);
+  for (const char* sub : {output_files::frames_dir, output_files::probes_dir}) {
+    if (!fs::is_directory(dir / sub, ec)) continue;
+    for (const auto& entry : fs::directory_iterator(dir / sub, ec)) {
+      const auto ext = entry.path().extension();
+      if (ext == ".npz" || ext == ".vtu" || ext == ".csv") fs::remove(entry.path(), ec);
+    }
+  }
+}
+
+class Outputs {
+ public:
+  Outputs(const Simulation& sim, std::filesystem::path dir, bool fresh, double wall_before)
+      : dir_(std::move(dir)), name_(sim.config().name), interval_(sim.config().output_interval),
+        wall_before_(wall_before),
+        probes_(sim.config().probes, dir_ / output_files::probes_dir, sim.time(), fresh) {
+    const Case& c = sim.config();
+    write_npz_ = std::find(c.output_formats.begin(), c.output_formats.end(), "npz") != c.output_formats.end();
+    write_vtk_ = std::find(c.output_formats.begin(), c.output_formats.end(), "vtk") != c.output_formats.end();
+    create_directories_or_throw(dir_ / output_files::frames_dir);
+    diagnostics_ = "time,step,dt,max_speed,min_density,max_density,kinetic_energy,potential_energy,total_energy,"
+                   "total_mass,leaks,wall_time\n";
+    if (!fresh) {
+      std::error_code ec;
+      const auto path = dir_ / output_files::diagnostics;
+      if (std::filesystem::exists(path, ec)) diagnostics_ = csv_rows_until(read_file(path), sim.time());
+      // Frames 0..K written before the checkpoint stay listed in the collection.
+      const std::int64_t last = next_index_after(sim.time(), interval_) - 1;
+      for (std::int64_t k = 0; k <= last; ++k) pvd_entries_[k] = static_cast<double>(k) * interval_;
+    }
+  }
+
+  void write_frame(std::int64_t index, const Simulation& sim, double wall_seconds) {
+    const Frame frame = make_frame(sim);
+    const std::string stem = fmt::format("{}/frame_{:06}", output_files::frames_dir, index);
+    if (write_npz_) write_file_atomic(dir_ / (stem + ".npz"), frame_to_npz(frame));
+    if (write_vtk_) {
+      write_file_atomic(dir_ / (stem + ".vtu"), frame_to_vtu(frame));
+      pvd_entries_[index] = frame.time;
+      std::vector<std::pair<double, std::string>> entries;
+      for (const auto& [k, t] : pvd_entries_) entries.emplace_back(t, fmt::format("{}/frame_{:06}.vtu", output_files::frames_dir, k));
+      write_file_atomic(dir_ / (name_ + ".pvd"), pvd_text(entries));
+    }
+    const Diagnostics d = sim.diagnostics();
+    diagnostics_ += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{:.3f}\n", d.time, d.step, d.dt, d.max_speed,
+                                d.min_density, d.max_density, d.kinetic_energy, d.potential_energy,
+                                d.kinetic_energy + d.potential_energy, d.total_mass, d.leaks,
+                                wall_before_ + wall_seconds);
+    write_file_atomic(dir_ / output_files::diagnostics, diagnostics_);
+    probes_.flush();
+    ++frames_written_;
+  }
+
+  void sample_probes(const Simulation& sim) { probes_.sample(sim); }
+  void write_checkpoint_file(const Simulation& sim, double wall_seconds) {
+    write_checkpoint(dir_ / output_files::checkpoint, sim, wall_before_ + wall_seconds);
+  }
+  [[nodiscard]] int frames_written() const { return frames_written_; }
+
+ private:
+  std::filesystem::path dir_;
+  std::string name_;
+  double interval_;
+  double wall_before_;
+  bool write_npz_ = true;
+  bool write_vtk_ = true;
+  std::string diagnostics_;
+  std::map<std::int64_t, double> pvd_entries_;
+  ProbeRecorder probes_;
+  int frames_written_ = 0;
+};
+
+class Progress {
+ public:
+  Progress(RunOptions::Progress mode, std::ostream& log, double t_start, double t_end, std::size_t particles)
+      : mode_(mode), log_(log), t_start_(t_start), t_end_(t_end), particles_(particles) {}
+
+  void update(const Simulation& sim, std::int64_t steps, double wall, bool force = false) {
+    if (mode_ == RunOptions::Progress::none) return;
+    const double t = sim.time();
+    if (mode_ == RunOptions::Progress::tty) {
+      if (!force && wall - last_wall_ < 0.2) return;
+    } else {
+      const double every = 0.05 * (t_end_ - t_start_);
+      if (!force && t < next_line_t_ && wall - last_wall_ < 30.0) return;
+      next_line_t_ = t + every;
+    }
+    last_wall_ = wall;
+    const double rate = wall > 0 ? static_cast<double>(particles_) * static_cast<double>(steps) / wall : 0.0;
+    const double eta = t > t_start_ ? wall * (t_end_ - t) / (t - t_start_) : NAN;
+    const std::string line =
+        fmt::format("t = {:.3f}/{:.3f} s  step {}  dt {:.2e} s  {:.2f} M particle-steps/s  ETA {}", t, t_end_,
+                    sim.clock().step, sim.clock().last_dt, rate * 1e-6, format_duration(eta));
+    if (mode_ == RunOptions::Progress::tty) log_ << "\r" << line << "\x1b[K" << std::flush;
+    else log_ << line << "\n" << std::flush;
+  }
+
+  void finish() {
+    if (mode_ == RunOptions::Progress::tty) log_ << "\n";
+  }
+
+ private:
+  RunOptions::Progress mode_;
+  std::ostream& log_;
+  double t_start_, t_end_;
+  std::size_t particles_;
+  double last_wall_ = -1e9;
+  double next_line_t_ = -1e300;
+};
+
+}  // namespace
+
+RunResult run_case(const Case& requested, const RunOptions& options, std::ostream& log) {
+  const auto wall_start = steady::now();
+  std::unique_ptr<Simulation> sim;
+  double wall_before = 0.0;
+  const bool fresh = !options.restart;
+  if (options.restart) {
+    Checkpoint cp = read_checkpoint(*options.restart);
+    wall_before = cp.wall_seconds;
+    sim = std::make_unique<Simulation>(cp.config, std::move(cp.particles), cp.clock, options.threads);
+  } else {
+    sim = std::make_unique<Simulation>(requested, options.threads);
+  }
+  const Case& c = sim->config();
+
+  create_directories_or_throw(options.output_dir);
+  if (fresh) remove_previous_outputs(options.output_dir, c.name);
+  Outputs outputs(*sim, options.output_dir, fresh, wall_before);
+
+  RunResult result;
+  result.particles = sim->particles().size();
+  result.force_evaluations_per_step = sim->force_evaluations_per_step();
+  result.rest_density = c.rest_density;
+  result.sound_speed = c.sound_speed;
+  result.output_dir = options.output_dir;
+  result.case_name = c.name;
+
+  const double interval = c.output_interval;
+  std::int64_t next_frame = next_index_after(sim->time(), interval);
+  if (fresh) {
+    outputs.sample_probes(*sim);
+    outputs.write_frame(0, *sim, 0.0);
+  }
+  const double checkpoint_interval = c.checkpoint_interval;
+  std::int64_t next_checkpoint =
+      checkpoint_interval > 0 ? next_index_after(sim->time(), checkpoint_interval) : std::int64_t{0};
+
+  Progress progress(options.progress, log, sim->time(), c.end_time, result.particles);
+  const auto loop_start = steady::now();
+  bool frame_is_current = fresh;
+  while (sim->time() < c.end_time) {
+    if (options.stop_requested != nullptr && options.stop_requested->load()) {
+      result.interrupted = true;
+      break;
+    }
+    const double frame_time = static_cast<double>(next_frame) * interval;
+    double limit = std::min(frame_time, c.end_time);
+    if (checkpoint_interval > 0)
+      limit = std::min(limit, static_cast<double>(next_checkpoint) * checkpoint_interval);
+    sim->step(limit);
+    ++result.steps_this_run;
+    frame_is_current = false;
+    outputs.sample_probes(*sim);
+    if (sim->time() >= frame_time || sim->time() >= c.end_time) {
+      outputs.write_frame(next_frame, *sim, seconds_since(wall_start));
+      frame_is_current = true;
+      if (sim->time() >= frame_time) ++next_frame;
+    }
+    if (checkpoint_interval > 0 && sim->time() >= static_cast<double>(next_checkpoint) * checkpoint_interval) {
+      outputs.write_checkpoint_file(*sim, seconds_since(wall_start));
+      next_checkpoint = next_index_after(sim->time(), checkpoint_interval);
+    }
+    progress.update(*sim, result.steps_this_run, seconds_since(loop_start));
+  }
+  progress.update(*sim, result.steps_this_run, seconds_since(loop_start), true);
+  progress.finish();
+
+  // What a normal end writes, also after Ctrl-C: the last frame, a checkpoint, the summary.
+  if (!frame_is_current) outputs.write_frame(next_frame, *sim, seconds_since(wall_start));
+  outputs.write_checkpoint_file(*sim, seconds_since(wall_start));
+
+  result.wall_seconds = seconds_since(wall_start);
+  const double loop_seconds = seconds_since(loop_start);
+  result.particle_steps_per_second =
+      loop_seconds > 0 ? static_cast<double>(result.particles) * static_cast<double>(result.steps_this_run) / loop_seconds : 0.0;
+  result.final = sim->diagnostics();
+  result.frames_written = outputs.frames_written();
+  write_file_atomic(options.output_dir / output_files::summary, format_summary(result));
+  return result;
+}
+
+std::string format_summary(const RunResult& r) {
+  const Diagnostics& d = r.final;
+  std::string s;
+  s += fmt::format("sluice {}: case '{}' {} at t = {:.4f} s\n", SLUICE_VERSION, r.case_name,
+                  r.interrupted ? "stopped on request" : "finished", d.time);
+  s += fmt::format("  particles   {} ({} fluid, {} wall)\n", r.particles, d.fluid_particles, d.wall_particles);
+  s += fmt::format("  steps       {} ({} force evaluation{} per step), {} in this run\n", d.step,
+                   r.force_evaluations_per_step, r.force_evaluations_per_step == 1 ? "" : "s", r.steps_this_run);
+  s += fmt::format("  wall time   {:.2f} s for this run\n", r.wall_seconds);
+  s += fmt::format("  speed       {:.2f} M particle-steps/s\n", r.particle_steps_per_second * 1e-6);
+  s += fmt::format("  leaks       {} (fluid particles put back from inside a wall)\n", d.leaks);
+  s += fmt::format("  density     min {:.2f}, max {:.2f} kg/m^3 (rho0 = {})\n", d.min_density, d.max_density,
+                   r.rest_density);
+  s += fmt::format("  max speed   {:.3f} m/s (c0 = {} m/s)\n", d.max_speed, r.sound_speed);
+  s += fmt::format("  all finite  {}\n", d.all_finite ? "yes" : "NO");
+  s += fmt::format("  output      {} ({} frames written)\n", r.output_dir.string(), r.frames_written);
+  return s;
+}
+
+}  // namespace sluice

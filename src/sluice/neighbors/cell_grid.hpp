@@ -1,0 +1,113 @@
+// Linked-cell neighbour search (cells of size = kernel support), rebuilt in O(N) by a counting sort.
+//
+// `bin` computes each particle's cell and a stable order that sorts particles by cell; the caller
+// reorders the particle arrays with it, after which the particles of cell c are the contiguous
+// index range [cell_start[c], cell_start[c+1]). Cells are numbered with x fastest, so the 3 cells
+// of a row around a particle are one contiguous range: a 2D query visits 3 ranges, a 3D query 9.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <stdexcept>
+#include <vector>
+
+namespace sluice {
+
+template <int Dim>
+class CellGrid {
+ public:
+  CellGrid() = default;
+
+  // The grid covers [lower, upper]; particles outside are clamped into the edge cells, which keeps
+  // the search correct (distances are always checked) if one strays.
+  CellGrid(const std::array<double, Dim>& lower, const std::array<double, Dim>& upper, double cell_size)
+      : lower_(lower), cell_size_(cell_size), inv_cell_size_(1.0 / cell_size) {
+    if (!(cell_size > 0.0)) throw std::invalid_argument("CellGrid: cell size must be positive");
+    std::size_t total = 1;
+    for (int d = 0; d < Dim; ++d) {
+      count_[d] = std::max(1, static_cast<int>(std::ceil((upper[d] - lower[d]) * inv_cell_size_)));
+      total *= static_cast<std::size_t>(count_[d]);
+    }
+    if (total > (std::size_t{1} << 31)) throw std::invalid_argument("CellGrid: domain too large for the cell size");
+    cell_start_.assign(total + 1, 0);
+  }
+
+  [[nodiscard]] double cell_size() const { return cell_size_; }
+  [[nodiscard]] std::size_t cell_count() const { return cell_start_.size() - 1; }
+  [[nodiscard]] int count(int d) const { return count_[d]; }
+
+  // Cell coordinates of a point along dimension d, clamped to the grid.
+  [[nodiscard]] int coordinate(double x, int d) const {
+    const double c = std::floor((x - lower_[d]) * inv_cell_size_);
+    return static_cast<int>(std::clamp(c, 0.0, static_cast<double>(count_[d] - 1)));
+  }
+
+  // Computes cell indices and the counting-sort order. After the caller permutes the particles
+  // with `order()`, call nothing else: cell_start() and cell_of() already describe the sorted set.
+  void bin(const std::array<std::vector<double>, Dim>& position) {
+    const std::size_t n = position[0].size();
+    cell_of_.resize(n);
+    std::fill(cell_start_.begin(), cell_start_.end(), 0u);
+    for (std::size_t i = 0; i < n; ++i) {
+      std::uint32_t c = 0;
+      for (int d = Dim - 1; d >= 0; --d) c = c * static_cast<std::uint32_t>(count_[d]) + coordinate(position[d][i], d);
+      cell_of_[i] = c;
+      ++cell_start_[c + 1];
+    }
+    for (std::size_t c = 1; c < cell_start_.size(); ++c) cell_start_[c] += cell_start_[c - 1];
+    order_.resize(n);
+    cursor_.assign(cell_start_.begin(), cell_start_.end() - 1);
+    for (std::size_t i = 0; i < n; ++i) order_[cursor_[cell_of_[i]]++] = static_cast<std::uint32_t>(i);
+    // Cell of each particle in sorted order.
+    sorted_cell_.resize(n);
+    for (std::size_t k = 0; k < n; ++k) sorted_cell_[k] = cell_of_[order_[k]];
+    cell_of_.swap(sorted_cell_);
+  }
+
+  [[nodiscard]] const std::vector<std::uint32_t>& order() const { return order_; }
+  [[nodiscard]] const std::vector<std::uint32_t>& cell_of() const { return cell_of_; }
+  [[nodiscard]] const std::vector<std::uint32_t>& cell_start() const { return cell_start_; }
+
+  // Calls f(begin, end) for each contiguous range of (sorted) particle indices that covers the
+  // cells adjacent to cell `c` (including c).
+  template <class F>
+  void for_each_neighbor_range(std::uint32_t c, F&& f) const {
+    std::array<int, Dim> coord{};
+    std::uint32_t rest = c;
+    for (int d = 0; d < Dim; ++d) {
+      coord[d] = static_cast<int>(rest % static_cast<std::uint32_t>(count_[d]));
+      rest /= static_cast<std::uint32_t>(count_[d]);
+    }
+    const int x_lo = std::max(coord[0] - 1, 0);
+    const int x_hi = std::min(coord[0] + 1, count_[0] - 1);
+    if constexpr (Dim == 1) {
+      f(cell_start_[x_lo], cell_start_[x_hi + 1]);
+    } else if constexpr (Dim == 2) {
+      for (int y = std::max(coord[1] - 1, 0); y <= std::min(coord[1] + 1, count_[1] - 1); ++y) {
+        const std::size_t row = static_cast<std::size_t>(y) * count_[0];
+        f(cell_start_[row + x_lo], cell_start_[row + x_hi + 1]);
+      }
+    } else {
+      for (int z = std::max(coord[2] - 1, 0); z <= std::min(coord[2] + 1, count_[2] - 1); ++z)
+        for (int y = std::max(coord[1] - 1, 0); y <= std::min(coord[1] + 1, count_[1] - 1); ++y) {
+          const std::size_t row = (static_cast<std::size_t>(z) * count_[1] + y) * count_[0];
+          f(cell_start_[row + x_lo], cell_start_[row + x_hi + 1]);
+        }
+    }
+  }
+
+ private:
+  std::array<double, Dim> lower_{};
+  std::array<int, Dim> count_{};
+  double cell_size_ = 1.0;
+  double inv_cell_size_ = 1.0;
+  std::vector<std::uint32_t> cell_start_{0};
+  std::vector<std::uint32_t> cell_of_;
+  std::vector<std::uint32_t> sorted_cell_;
+  std::vector<std::uint32_t> order_;
+  std::vector<std::uint32_t> cursor_;
+};
+
+}  // namespace sluice

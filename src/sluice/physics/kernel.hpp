@@ -1,0 +1,76 @@
+// Smoothing kernels W(r, h) with analytic derivatives dW/dr; support radius 2h.
+#pragma once
+
+#include <numbers>
+
+namespace sluice {
+
+// Cubic spline (Monaghan & Lattanzio 1985), normalised in 1, 2 or 3 dimensions.
+template <int Dim>
+struct CubicSpline {
+  static constexpr double support = 2.0;  // in units of h
+
+  double h;
+  double inv_h;
+  double norm;  // sigma / h^Dim
+
+  explicit CubicSpline(double smoothing_length) : h(smoothing_length), inv_h(1.0 / smoothing_length) {
+    static_assert(Dim >= 1 && Dim <= 3);
+    if constexpr (Dim == 1) norm = 2.0 / (3.0 * h);
+    if constexpr (Dim == 2) norm = 10.0 / (7.0 * std::numbers::pi * h * h);
+    if constexpr (Dim == 3) norm = 1.0 / (std::numbers::pi * h * h * h);
+  }
+
+  [[nodiscard]] double value(double r) const {
+    const double q = r * inv_h;
+    if (q < 1.0) return norm * (1.0 - 1.5 * q * q + 0.75 * q * q * q);
+    if (q < 2.0) {
+      const double t = 2.0 - q;
+      return norm * 0.25 * t * t * t;
+    }
+    return 0.0;
+  }
+
+  // dW/dr (negative inside the support, zero outside and at r = 0).
+  [[nodiscard]] double derivative(double r) const {
+    const double q = r * inv_h;
+    if (q < 1.0) return norm * inv_h * (-3.0 * q + 2.25 * q * q);
+    if (q < 2.0) {
+      const double t = 2.0 - q;
+      return -norm * inv_h * 0.75 * t * t;
+    }
+    return 0.0;
+  }
+};
+
+// Wendland C2 (Wendland 1995), in the q in [0, 2] form used by DualSPHysics; 2D and 3D only.
+template <int Dim>
+struct WendlandC2 {
+  static constexpr double support = 2.0;
+
+  double h;
+  double inv_h;
+  double norm;
+
+  explicit WendlandC2(double smoothing_length) : h(smoothing_length), inv_h(1.0 / smoothing_length) {
+    static_assert(Dim == 2 || Dim == 3);
+    if constexpr (Dim == 2) norm = 7.0 / (4.0 * std::numbers::pi * h * h);
+    if constexpr (Dim == 3) norm = 21.0 / (16.0 * std::numbers::pi * h * h * h);
+  }
+
+  [[nodiscard]] double value(double r) const {
+    const double q = r * inv_h;
+    if (q >= 2.0) return 0.0;
+    const double t = 1.0 - 0.5 * q;
+    return norm * t * t * t * t * (2.0 * q + 1.0);
+  }
+
+  [[nodiscard]] double derivative(double r) const {
+    const double q = r * inv_h;
+    if (q >= 2.0) return 0.0;
+    const double t = 1.0 - 0.5 * q;
+    return -5.0 * norm * inv_h * q * t * t * t;
+  }
+};
+
+}  // namespace sluice

@@ -1,0 +1,138 @@
+#include "sluice/simulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "sluice/geometry/leaks.hpp"
+#include "sluice/geometry/setup.hpp"
+#include "sluice/integrate/integrators.hpp"
+
+namespace sluice {
+
+Simulation::Simulation(const Case& c, int threads) : threads_(std::max(1, threads)) {
+  Setup s = build_setup(c);
+  particles_ = std::move(s.particles);
+  solids_ = std::move(s.solids);
+  removed_near_coincident_ = s.removed_near_coincident;
+  init(c);
+}
+
+Simulation::Simulation(const Case& c, Particles<2> particles, Clock clock, int threads)
+    : particles_(std::move(particles)), clock_(clock), threads_(std::max(1, threads)) {
+  // The wall geometry is rebuilt from the case; the particles come from the saved state.
+  solids_ = build_setup(c).solids;
+  init(c);
+}
+
+void Simulation::init(const Case& c) {
+  case_ = c;
+  const double h = c.smoothing_length();
+  settings_.mass = c.rest_density * c.dx * c.dx;
+  settings_.h = h;
+  settings_.viscosity = c.viscosity;
+  settings_.alpha = c.artificial_viscosity;
+  settings_.delta = c.density_diffusion;
+  settings_.gravity = c.gravity;
+  settings_.eos = TaitEos{c.rest_density, c.sound_speed, c.gamma};
+  predictor_corrector_ = c.integrator == "predictor_corrector";
+  if (c.kernel == "wendland_c2") kernel_ = WendlandC2<2>(h);
+  else kernel_ = CubicSpline<2>(h);
+  // The grid covers the tank and its walls with a margin; strays are clamped into edge cells.
+  const int layers = wall_layers(c);
+  const double margin = (layers + 2) * c.dx + 2.0 * h;
+  grid_ = CellGrid<2>({-margin, -margin}, {c.tank_width + margin, c.tank_height + margin}, 2.0 * h);
+}
+
+RateSummary Simulation::evaluate(bool shepard_due) {
+  grid_.bin(particles_.position);
+  particles_.permute(grid_.order(), scratch_);
+  const bool repair_due = std::any_of(particles_.needs_density_repair.begin(), particles_.needs_density_repair.end(),
+                                      [](std::uint8_t f) { return f != 0; });
+  return std::visit(
+      [&](const auto& kernel) {
+        if (shepard_due || repair_due) {
+          const auto& repair = particles_.needs_density_repair;
+          shepard_filter(particles_, grid_, kernel, settings_.mass, scratch_, threads_,
+                         [&](std::size_t i) { return shepard_due || repair[i] != 0; });
+          std::fill(particles_.needs_density_repair.begin(), particles_.needs_density_repair.end(), 0);
+        }
+        terms_.compute(particles_, settings_.eos);
+        return compute_rates(particles_, grid_, kernel, settings_, terms_, threads_);
+      },
+      kernel_);
+}
+
+double Simulation::choose_dt(const RateSummary& r) const {
+  if (case_.fixed_dt > 0.0) return case_.fixed_dt;
+  const double h = settings_.h;
+  const TaitEos& eos = settings_.eos;
+  const double max_sound_speed = eos.local_sound_speed(std::max(r.max_density, eos.rest_density));
+  double dt = h / max_sound_speed;
+  if (r.max_relative_speed > 0.0) dt = std::min(dt, h / r.max_relative_speed);
+  if (r.max_acceleration > 0.0) dt = std::min(dt, std::sqrt(h / r.max_acceleration));
+  return case_.cfl * dt;
+}
+
+void Simulation::step(double time_limit) {
+  const bool shepard_due = case_.shepard_every > 0 && clock_.step > 0 && clock_.step % case_.shepard_every == 0;
+  const RateSummary rates = evaluate(shepard_due);
+  double dt = choose_dt(rates);
+  if (!(dt > 0.0) || !std::isfinite(dt))
+    throw std::runtime_error(fmt::format("time step {} at t = {} s is not a positive finite number", dt, clock_.time));
+  // Land exactly on the limit (an output time) rather than step past it.
+  const bool reaches_limit = clock_.time + dt >= time_limit;
+  if (reaches_limit) dt = time_limit - clock_.time;
+  const double floor = settings_.eos.rest_density;
+  if (predictor_corrector_) {
+    predictor_update(particles_, dt, floor);
+    evaluate(false);
+    corrector_update(particles_, dt, floor);
+  } else {
+    euler_update(particles_, dt, floor);
+  }
+  clock_.leaks += static_cast<std::int64_t>(put_back_leaked(particles_, solids_, case_.dx));
+  clock_.time = reaches_limit ? time_limit : clock_.time + dt;
+  clock_.last_dt = dt;
+  ++clock_.step;
+}
+
+Diagnostics Simulation::diagnostics() const {
+  Diagnostics d;
+  d.time = clock_.time;
+  d.step = clock_.step;
+  d.dt = clock_.last_dt;
+  d.leaks = clock_.leaks;
+  d.min_density = std::numeric_limits<double>::infinity();
+  d.max_density = -std::numeric_limits<double>::infinity();
+  const double m = settings_.mass;
+  const Particles<2>& p = particles_;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double rho = p.density[i];
+    d.min_density = std::min(d.min_density, rho);
+    d.max_density = std::max(d.max_density, rho);
+    bool finite = std::isfinite(rho);
+    if (!p.is_fluid(i)) {
+      ++d.wall_particles;
+      d.all_finite = d.all_finite && finite;
+      continue;
+    }
+    ++d.fluid_particles;
+    double v2 = 0.0, g_dot_x = 0.0;
+    for (int k = 0; k < 2; ++k) {
+      v2 += p.velocity[k][i] * p.velocity[k][i];
+      g_dot_x += settings_.gravity[k] * p.position[k][i];
+      finite = finite && std::isfinite(p.position[k][i]) && std::isfinite(p.velocity[k][i]);
+    }
+    d.all_finite = d.all_finite && finite;
+    d.max_speed = std::max(d.max_speed, std::sqrt(v2));
+    d.kinetic_energy += 0.5 * m * v2;
+    d.potential_energy -= m * g_dot_x;
+  }
+  d.total_mass = m * static_cast<double>(d.fluid_particles);
+  return d;
+}
+
+}  // namespace sluice

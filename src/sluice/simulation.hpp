@@ -1,0 +1,91 @@
+// A Simulation is a value: particles, their neighbour grid, the physics settings and the clock.
+// Two of them can live side by side (no global state).
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <variant>
+#include <vector>
+
+#include "sluice/case/case.hpp"
+#include "sluice/core/particles.hpp"
+#include "sluice/geometry/polygon.hpp"
+#include "sluice/neighbors/cell_grid.hpp"
+#include "sluice/physics/kernel.hpp"
+#include "sluice/physics/rates.hpp"
+
+namespace sluice {
+
+// Everything besides the particles that a restart needs to continue exactly.
+struct Clock {
+  double time = 0.0;
+  std::int64_t step = 0;
+  double last_dt = 0.0;
+  std::int64_t leaks = 0;  // fluid particles put back from inside a wall, summed over the run
+};
+
+struct Diagnostics {
+  double time = 0.0;
+  std::int64_t step = 0;
+  double dt = 0.0;
+  std::size_t fluid_particles = 0;
+  std::size_t wall_particles = 0;
+  double max_speed = 0.0;        // fluid
+  double min_density = 0.0;      // all particles
+  double max_density = 0.0;      // all particles
+  double kinetic_energy = 0.0;   // fluid, J per metre of depth in 2D
+  double potential_energy = 0.0; // fluid, relative to the origin: -m g . x
+  double total_mass = 0.0;       // fluid
+  std::int64_t leaks = 0;
+  bool all_finite = true;
+};
+
+class Simulation {
+ public:
+  static constexpr int dim = 2;
+
+  // Builds the particles of a case (setup) and starts at t = 0.
+  explicit Simulation(const Case& c, int threads = 1);
+  // Continues from a saved state (restart).
+  Simulation(const Case& c, Particles<2> particles, Clock clock, int threads = 1);
+
+  // Advances one time step; a step that would pass time_limit ends exactly on it.
+  void step(double time_limit = std::numeric_limits<double>::infinity());
+
+  [[nodiscard]] const Particles<2>& particles() const { return particles_; }
+  [[nodiscard]] const Clock& clock() const { return clock_; }
+  [[nodiscard]] double time() const { return clock_.time; }
+  [[nodiscard]] const Case& config() const { return case_; }
+  [[nodiscard]] const std::vector<Polygon>& solids() const { return solids_; }
+  [[nodiscard]] double particle_mass() const { return settings_.mass; }
+  [[nodiscard]] double smoothing_length() const { return settings_.h; }
+  [[nodiscard]] const TaitEos& eos() const { return settings_.eos; }
+  [[nodiscard]] std::size_t removed_near_coincident() const { return removed_near_coincident_; }
+  [[nodiscard]] int force_evaluations_per_step() const { return predictor_corrector_ ? 2 : 1; }
+  [[nodiscard]] int threads() const { return threads_; }
+  [[nodiscard]] Diagnostics diagnostics() const;
+
+  using KernelVariant = std::variant<CubicSpline<2>, WendlandC2<2>>;
+
+ private:
+  void init(const Case& c);
+  // Rebuilds the neighbour grid (reordering the particles by cell), applies the Shepard filter when
+  // due and any pending density repairs, and computes the rates.
+  RateSummary evaluate(bool shepard_due);
+  double choose_dt(const RateSummary& r) const;
+
+  Case case_;
+  Particles<2> particles_;
+  std::vector<Polygon> solids_;
+  CellGrid<2> grid_;
+  KernelVariant kernel_{CubicSpline<2>(1.0)};
+  RateSettings<2> settings_{};
+  ParticleTerms terms_;
+  std::vector<double> scratch_;
+  Clock clock_;
+  bool predictor_corrector_ = true;
+  int threads_ = 1;
+  std::size_t removed_near_coincident_ = 0;
+};
+
+}  // namespace sluice
