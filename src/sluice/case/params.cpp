@@ -78,7 +78,7 @@ const std::vector<Param<Case>>& case_params() {
       declare("fluid.viscosity", &Case::viscosity, "Pa s", 0.001, 0.0, 1e6, "Dynamic viscosity mu (water: 0.001)."),
       declare("physics.gravity", &Case::gravity, "m/s^2", Vec2{0.0, -9.81}, unbounded_lower, unbounded_upper,
               "Gravitational acceleration [gx, gy]."),
-      declare("physics.artificial_viscosity", &Case::artificial_viscosity, "", 0.02, 0.0, 1.0,
+      declare("physics.artificial_viscosity", &Case::artificial_viscosity, "", 0.1, 0.0, 1.0,
               "Monaghan (1992) artificial viscosity alpha (0 = off)."),
       declare("physics.density_diffusion", &Case::density_diffusion, "", 0.1, 0.0, 1.0,
               "delta-SPH density diffusion coefficient delta (Molteni & Colagrossi 2009, hydrostatic part removed as in Fourtakas et al. 2019; 0 = off)."),
@@ -92,7 +92,8 @@ const std::vector<Param<Case>>& case_params() {
               "Time integrator: forward Euler (one force evaluation per step) or predictor-corrector (two).",
               {"predictor_corrector", "euler"}),
       declare("time.cfl", &Case::cfl, "", 0.2, 0.1, 0.3,
-              "Courant number C_CFL: dt = C_CFL * min(h/|v_ij|max, sqrt(h/|a|max), h/c_max)."),
+              "Courant number C_CFL: dt = C_CFL * min(h/|v_ij|max, sqrt(h/|a|max), h/c_max). Forward Euler amplifies "
+              "sound waves: use 0.1 with it."),
       declare("time.dt", &Case::fixed_dt, "s", 0.0, 0.0, inf, "Fixed time step; 0 = adaptive (recommended)."),
       declare("output.interval", &Case::output_interval, "s", 0.1, 1e-9, inf, "Simulated time between frames."),
       declare("output.formats", &Case::output_formats, "", std::vector<std::string>{"vtk", "npz"}, unbounded_lower,

@@ -1,0 +1,32 @@
+// Each `sluice <command>` lives in its own file and registers itself with the CLI through one of
+// these functions; main.cpp lists them and maps errors to exit codes.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+#include <stdexcept>
+
+namespace sluice::app {
+
+// Exit codes: 0 success, 1 the run failed (I/O, a damaged file, an unstable run), 2 bad input
+// (command line or case file), 130 stopped by Ctrl-C (after writing its outputs).
+inline constexpr int exit_failure = 1;
+inline constexpr int exit_bad_input = 2;
+inline constexpr int exit_interrupted = 130;
+
+// Bad command-line input that CLI11 cannot check by itself (exit code 2).
+struct BadInput : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct Command {
+  CLI::App* cli;             // the subcommand, to test whether it was given
+  std::function<int()> run;  // runs it after parsing; throws on error
+};
+
+Command add_run_command(CLI::App& app);
+Command add_cases_command(CLI::App& app);
+Command add_init_command(CLI::App& app);
+
+}  // namespace sluice::app

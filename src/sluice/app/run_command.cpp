@@ -1,0 +1,128 @@
+// sluice run, sluice cases, sluice init.
+#include <fmt/format.h>
+#include <omp.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include "sluice/app/commands.hpp"
+#include "sluice/case/params.hpp"
+#include "sluice/io/atomic_file.hpp"
+#include "sluice/io/run.hpp"
+
+namespace fs = std::filesystem;
+
+namespace sluice::app {
+
+namespace {
+
+std::atomic<bool> stop_requested{false};
+
+extern "C" void on_signal(int signal) {
+  stop_requested.store(true);
+  std::signal(signal, SIG_DFL);  // a second Ctrl-C stops at once
+}
+
+Case resolve_case(const std::string& name_or_path) {
+  if (name_or_path.empty()) return *load_builtin_case("dam_break");
+  std::error_code ec;
+  if (!fs::exists(name_or_path, ec)) {
+    if (auto c = load_builtin_case(name_or_path)) return *c;
+  }
+  return load_case_file(name_or_path);
+}
+
+struct RunArgs {
+  std::string case_arg, output, restart;
+  std::vector<std::string> sets;
+  int threads = 0;
+  bool quiet = false;
+};
+
+int run(const RunArgs& a) {
+  Case c;
+  RunOptions options;
+  options.threads = a.threads > 0 ? a.threads : omp_get_num_procs();
+  if (!a.restart.empty()) {
+    if (!a.case_arg.empty() || !a.sets.empty())
+      throw BadInput("--restart continues the case stored in the checkpoint; give no case file or --set with it");
+    options.restart = a.restart;
+    std::error_code ec;
+    if (!fs::is_regular_file(a.restart, ec)) throw IoError(fmt::format("{}: no such checkpoint file", a.restart));
+    options.output_dir = a.output.empty() ? fs::path(a.restart).parent_path() : fs::path(a.output);
+    if (options.output_dir.empty()) options.output_dir = ".";
+  } else {
+    c = resolve_case(a.case_arg);
+    for (const auto& s : a.sets) apply_override(c, s);
+    options.output_dir = a.output.empty() ? fs::path("out") / c.name : fs::path(a.output);
+  }
+  options.progress = a.quiet ? RunOptions::Progress::none
+                             : (::isatty(::fileno(stderr)) ? RunOptions::Progress::tty : RunOptions::Progress::lines);
+  options.stop_requested = &stop_requested;
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+
+  if (!a.quiet) {
+    if (options.restart) std::cerr << fmt::format("sluice: restarting from {}\n", a.restart);
+    else
+      std::cerr << fmt::format("sluice: running '{}' into {} with {} thread{}\n", c.name, options.output_dir.string(),
+                               options.threads, options.threads == 1 ? "" : "s");
+  }
+  const RunResult r = run_case(c, options, std::cerr);
+  std::cout << format_summary(r);
+  return r.interrupted ? exit_interrupted : 0;
+}
+
+}  // namespace
+
+Command add_run_command(CLI::App& app) {
+  auto args = std::make_shared<RunArgs>();
+  auto* cmd = app.add_subcommand("run", "Run a case (a .toml file or a built-in case name; default: dam_break).");
+  cmd->add_option("case", args->case_arg, "Case file (.toml) or built-in case name (see `sluice cases`)");
+  cmd->add_option("-o,--output", args->output, "Output directory (default: out/<case name>)");
+  cmd->add_option("--set", args->sets, "Override a case key, e.g. --set domain.dx=0.1 (repeatable)")
+      ->allow_extra_args(false);
+  cmd->add_option("--threads", args->threads, "Threads to use (default: all cores)")->check(CLI::Range(1, 1024));
+  cmd->add_option("--restart", args->restart, "Continue from a checkpoint file (e.g. out/dam_break/checkpoint.bin)");
+  cmd->add_flag("-q,--quiet", args->quiet, "No progress line");
+  return {cmd, [args] { return run(*args); }};
+}
+
+Command add_cases_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand("cases", "List the built-in cases.");
+  return {cmd, [] {
+            for (const auto& b : builtin_cases())
+              std::cout << fmt::format("{:<16} {}\n", b.name, load_builtin_case(b.name)->description);
+            return 0;
+          }};
+}
+
+Command add_init_command(CLI::App& app) {
+  struct InitArgs {
+    std::string path = "case.toml", from = "dam_break";
+    bool force = false;
+  };
+  auto args = std::make_shared<InitArgs>();
+  auto* cmd = app.add_subcommand("init", "Write a fully commented case file to edit and run.");
+  cmd->add_option("file", args->path, "File to write (default: case.toml)");
+  cmd->add_option("--from", args->from, "Built-in case to start from (default: dam_break)");
+  cmd->add_flag("--force", args->force, "Overwrite the file if it exists");
+  return {cmd, [args] {
+            const auto c = load_builtin_case(args->from);
+            if (!c) throw BadInput(fmt::format("--from {}: no built-in case of that name; see `sluice cases`", args->from));
+            std::error_code ec;
+            if (fs::exists(args->path, ec) && !args->force)
+              throw BadInput(fmt::format("{}: already exists; use --force to overwrite it", args->path));
+            write_file_atomic(args->path, case_template(*c));
+            std::cout << fmt::format("wrote {} (from the built-in case '{}'); run it with: sluice run {}\n", args->path,
+                                     args->from, args->path);
+            return 0;
+          }};
+}
+
+}  // namespace sluice::app

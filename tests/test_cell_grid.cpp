@@ -1,0 +1,57 @@
+// The linked-cell search finds exactly the pairs a brute-force search finds, and sorts by cell.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+#include <set>
+
+#include "sluice/neighbors/cell_grid.hpp"
+
+using namespace sluice;
+
+TEST(CellGrid, FindsTheSamePairsAsBruteForce) {
+  std::mt19937 rng(42);
+  std::uniform_real_distribution<double> ux(-1.0, 3.0), uy(0.0, 2.0);
+  const std::size_t n = 3000;
+  std::array<std::vector<double>, 2> pos;
+  for (std::size_t i = 0; i < n; ++i) {
+    pos[0].push_back(ux(rng));
+    pos[1].push_back(uy(rng));
+  }
+  // Two strays outside the grid bounds must still be found by distance.
+  pos[0].push_back(-5.0);
+  pos[1].push_back(1.0);
+  pos[0].push_back(-5.05);
+  pos[1].push_back(1.0);
+  const double radius = 0.13;
+  CellGrid<2> grid({-1.0, 0.0}, {3.0, 2.0}, radius);
+  grid.bin(pos);
+  const auto& order = grid.order();
+  ASSERT_EQ(order.size(), n + 2);
+  // Sorted order visits cells in non-decreasing order.
+  for (std::size_t k = 1; k < order.size(); ++k) ASSERT_LE(grid.cell_of()[k - 1], grid.cell_of()[k]);
+
+  std::set<std::pair<std::uint32_t, std::uint32_t>> found, expected;
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    grid.for_each_neighbor_range(grid.cell_of()[k], [&](std::uint32_t b, std::uint32_t e) {
+      for (std::uint32_t kj = b; kj < e; ++kj) {
+        const auto i = order[k], j = order[kj];
+        if (i == j) continue;
+        const double dx = pos[0][i] - pos[0][j], dy = pos[1][i] - pos[1][j];
+        if (dx * dx + dy * dy < radius * radius) found.insert({i, j});
+      }
+    });
+  }
+  for (std::uint32_t i = 0; i < pos[0].size(); ++i)
+    for (std::uint32_t j = 0; j < pos[0].size(); ++j) {
+      if (i == j) continue;
+      const double dx = pos[0][i] - pos[0][j], dy = pos[1][i] - pos[1][j];
+      if (dx * dx + dy * dy < radius * radius) expected.insert({i, j});
+    }
+  EXPECT_GT(expected.size(), 1000u);
+  EXPECT_EQ(found, expected);
+}
+
+TEST(CellGrid, RejectsNonPositiveCellSize) {
+  EXPECT_THROW(CellGrid<2>({0, 0}, {1, 1}, 0.0), std::invalid_argument);
+}

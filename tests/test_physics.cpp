@@ -1,0 +1,145 @@
+// Physical facts the solver must reproduce: hydrostatic equilibrium, conservation, and the
+// invariants of the default case (finite, inside the tank, |v| < c0, 0 < rho <= 1.5 rho0).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "physics_cases.hpp"
+#include "sluice/case/params.hpp"
+#include "sluice/simulation.hpp"
+
+using namespace sluice;
+
+namespace {
+
+double max_fluid_speed(const Simulation& sim) {
+  const auto& p = sim.particles();
+  double vmax = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (p.is_fluid(i)) vmax = std::max(vmax, std::hypot(p.velocity[0][i], p.velocity[1][i]));
+  return vmax;
+}
+
+}  // namespace
+
+// Forward Euler amplifies sound waves unless the step is small: it is run at C_CFL = 0.1.
+class Hydrostatic : public ::testing::TestWithParam<std::pair<std::string, double>> {};
+
+TEST_P(Hydrostatic, StillWaterStaysAtRestWithHydrostaticPressure) {
+  const double depth = 1.0, dx = 0.025, g = 9.81;
+  const auto [integrator, cfl] = GetParam();
+  Simulation sim(test_cases::hydrostatic_tank(1.0, depth, dx, integrator, cfl), 2);
+  const double t_ref = std::sqrt(depth / g);
+  const double end = 6.0 * t_ref;
+  double worst_speed = 0.0;
+  while (sim.time() < end) {
+    sim.step(end);
+    worst_speed = std::max(worst_speed, max_fluid_speed(sim));
+  }
+  // Mean pressure in the bottom layer of fluid (centres within dx of the floor), against rho0 g H.
+  const auto& p = sim.particles();
+  double sum = 0.0;
+  int count = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (p.is_fluid(i) && p.position[1][i] < dx) {
+      sum += sim.eos().pressure(p.density[i]);
+      ++count;
+    }
+  ASSERT_GT(count, 30);
+  const double expected = 1000.0 * g * depth;
+  EXPECT_NEAR(sum / count, expected, 0.03 * expected);
+  EXPECT_LT(worst_speed, 0.02 * std::sqrt(g * depth));
+  EXPECT_EQ(sim.clock().leaks, 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(BothIntegrators, Hydrostatic,
+                         ::testing::Values(std::pair<std::string, double>{"predictor_corrector", 0.2},
+                                           std::pair<std::string, double>{"euler", 0.1}));
+
+// A free-falling blob far from every wall: internal forces cancel pair by pair, so the total momentum
+// changes by exactly the impulse of gravity M g t, and mass is exact.
+TEST(Conservation, MomentumChangeEqualsGravityImpulseInFreeFall) {
+  Case c = parse_case(R"(
+[case]
+name = "free_fall"
+[domain]
+dx = 0.05
+[tank]
+width = 10.0
+height = 10.0
+[physics]
+artificial_viscosity = 0.1
+[[water]]
+min = [4.0, 7.0]
+max = [5.0, 8.0]
+)",
+                      "free fall");
+  c.hydrostatic_start = false;
+  Simulation sim(c, 2);
+  const auto momentum = [&](int d) {
+    const auto& p = sim.particles();
+    double s = 0.0;
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (p.is_fluid(i)) s += sim.particle_mass() * p.velocity[d][i];
+    return s;
+  };
+  const double mass = sim.diagnostics().total_mass;
+  const double end = 0.5;
+  // Take the blob through internal pressure waves (it starts at rho0 with no support).
+  while (sim.time() < end) sim.step(end);
+  const double expected_y = mass * c.gravity[1] * end;
+  EXPECT_NEAR(momentum(1), expected_y, 1e-9 * std::abs(expected_y));
+  EXPECT_NEAR(momentum(0), 0.0, 1e-9 * std::abs(expected_y));
+  EXPECT_EQ(sim.diagnostics().total_mass, mass);
+  EXPECT_EQ(sim.diagnostics().fluid_particles, 400u);
+}
+
+// The seed's invariants on the default case, at a coarse resolution, for the whole 30 s.
+class DefaultCaseInvariants : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(DefaultCaseInvariants, HoldForTheWholeRun) {
+  Case c = *load_builtin_case("dam_break");
+  apply_override(c, "domain.dx=0.4");
+  apply_override(c, "time.integrator=" + GetParam());
+  Simulation sim(c, 2);
+  const std::size_t fluid = sim.diagnostics().fluid_particles;
+  const double rho0 = c.rest_density;
+  std::int64_t checks = 0;
+  while (sim.time() < c.end_time) {
+    sim.step(c.end_time);
+    const auto& p = sim.particles();
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const double x = p.position[0][i], y = p.position[1][i], rho = p.density[i];
+      const double speed = std::hypot(p.velocity[0][i], p.velocity[1][i]);
+      ASSERT_TRUE(std::isfinite(x) && std::isfinite(y) && std::isfinite(speed) && std::isfinite(rho))
+          << "t = " << sim.time() << " particle " << p.id[i];
+      ASSERT_GT(rho, 0.0);
+      ASSERT_LE(rho, 1.5 * rho0) << "t = " << sim.time();
+      ASSERT_LT(speed, c.sound_speed);
+      if (p.is_fluid(i)) {
+        ASSERT_GE(x, 0.0) << "t = " << sim.time();
+        ASSERT_LE(x, c.tank_width);
+        ASSERT_GE(y, 0.0);
+        ASSERT_LE(y, c.tank_height);
+      }
+    }
+    ++checks;
+  }
+  EXPECT_EQ(sim.diagnostics().fluid_particles, fluid);
+  EXPECT_EQ(sim.clock().leaks, 0) << "particles put back from inside a wall";
+  EXPECT_GT(checks, 1000);
+}
+
+INSTANTIATE_TEST_SUITE_P(BothIntegrators, DefaultCaseInvariants, ::testing::Values("predictor_corrector", "euler"));
+
+// Near-coincident points are removed at set-up: overlapping water regions do not double particles.
+TEST(Setup, OverlappingRegionsAreMergedAndWaterNeverSitsOnAWall) {
+  Case c = *load_builtin_case("dam_break");
+  Simulation single(c, 1);
+  Case overlapping = c;
+  overlapping.water.push_back(c.water[1]);  // the column twice
+  Simulation merged(overlapping, 1);
+  EXPECT_EQ(merged.diagnostics().fluid_particles, single.diagnostics().fluid_particles);
+  EXPECT_EQ(merged.removed_near_coincident(), 225u);
+  EXPECT_EQ(single.diagnostics().fluid_particles, 100u * 10u + 15u * 15u);
+}
