@@ -32,14 +32,15 @@ struct CubicSpline {
   }
 
   // dW/dr (negative inside the support, zero outside and at r = 0).
-  [[nodiscard]] double derivative(double r) const {
+  [[nodiscard]] double derivative(double r) const { return r < support * h ? derivative_inside(r) : 0.0; }
+
+  // dW/dr for 0 <= r < 2h, without branches so that the pair loop vectorises.
+  [[nodiscard]] double derivative_inside(double r) const {
     const double q = r * inv_h;
-    if (q < 1.0) return norm * inv_h * (-3.0 * q + 2.25 * q * q);
-    if (q < 2.0) {
-      const double t = 2.0 - q;
-      return -norm * inv_h * 0.75 * t * t;
-    }
-    return 0.0;
+    const double t = 2.0 - q;
+    const double inner = -3.0 * q + 2.25 * q * q;
+    const double outer = -0.75 * t * t;
+    return norm * inv_h * (q < 1.0 ? inner : outer);
   }
 };
 
@@ -65,9 +66,10 @@ struct WendlandC2 {
     return norm * t * t * t * t * (2.0 * q + 1.0);
   }
 
-  [[nodiscard]] double derivative(double r) const {
+  [[nodiscard]] double derivative(double r) const { return r < support * h ? derivative_inside(r) : 0.0; }
+
+  [[nodiscard]] double derivative_inside(double r) const {
     const double q = r * inv_h;
-    if (q >= 2.0) return 0.0;
     const double t = 1.0 - 0.5 * q;
     return -5.0 * norm * inv_h * q * t * t * t;
   }

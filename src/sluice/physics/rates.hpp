@@ -61,121 +61,150 @@ struct RateSummary {
   double max_density = 0.0;         // over all particles
 };
 
+// Collects the neighbours j != i within the kernel support of particle i (at x_i) into `list` and
+// returns how many. Branch-free: every candidate is written, only neighbours advance the count.
+template <int Dim>
+std::uint32_t collect_neighbors(const CellGrid<Dim>& grid, std::uint32_t cell, const std::array<double, Dim>& xi,
+                                const std::array<const double*, Dim>& x, double support2, double min_r2,
+                                std::vector<std::uint32_t>& list) {
+  std::uint32_t count = 0;
+  grid.for_each_neighbor_range(cell, [&](std::uint32_t begin, std::uint32_t end) {
+    if (list.size() < count + (end - begin)) list.resize(2 * (count + (end - begin)));
+    std::uint32_t* out = list.data();
+    for (std::uint32_t j = begin; j < end; ++j) {
+      double r2 = 0.0;
+      for (int d = 0; d < Dim; ++d) {
+        const double dx = xi[d] - x[d][j];
+        r2 += dx * dx;
+      }
+      out[count] = j;
+      count += static_cast<std::uint32_t>((r2 < support2) & (r2 > min_r2));
+    }
+  });
+  return count;
+}
+
 // Fills p.acceleration (fluid) and p.density_rate (all particles).
+//
+// Per particle i, a first pass collects the neighbours within the support from the cell grid; the
+// second pass sums the pair terms over exactly those, in a loop written branch-free so that the
+// compiler vectorises it. `#pragma omp simd` allows the vectorised sums, whose order is fixed by the
+// binary and the neighbour order, never by the thread count.
 template <int Dim, class Kernel>
 RateSummary compute_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const Kernel& kernel,
                           const RateSettings<Dim>& s, const ParticleTerms& t, int threads) {
+  static_assert(Dim >= 1 && Dim <= 3);
   const long n = static_cast<long>(p.size());
   const double support2 = Kernel::support * Kernel::support * s.h * s.h;
   const double min_r2 = 1e-18 * s.h * s.h;  // excludes i = j (and exactly coincident points)
   const double m = s.mass;
   const double c0 = s.eos.sound_speed;
+  const double h = s.h;
+  const double alpha = s.alpha;
+  const double mu = s.viscosity;
   const double delta_h_c0 = s.delta * s.h * c0;
   const auto& cell_of = grid.cell_of();
+  const double g0 = s.gravity[0];
+  const double g1 = Dim > 1 ? s.gravity[Dim > 1 ? 1 : 0] : 0.0;
+  const double g2 = Dim > 2 ? s.gravity[Dim > 2 ? 2 : 0] : 0.0;
 
-  std::array<const double*, Dim> x{}, v{};
-  std::array<double*, Dim> a{};
-  for (int d = 0; d < Dim; ++d) {
-    x[d] = p.position[d].data();
-    v[d] = p.velocity[d].data();
-    a[d] = p.acceleration[d].data();
-  }
-  const double* rho = p.density.data();
-  const double* p_over_rho2 = t.p_over_rho2.data();
-  const double* inv_rho2 = t.inv_rho2.data();
-  const double* inv_rho = t.inv_rho.data();
-  const double* hydro_k = t.hydro_k.data();
-  const double* fluid_mask = t.fluid_mask.data();
-  double* density_rate = p.density_rate.data();
+  std::array<const double*, Dim> x{};
+  for (int d = 0; d < Dim; ++d) x[d] = p.position[d].data();
+  // Component pointers; unused dimensions point at x, and are never read.
+  const double* __restrict x0 = p.position[0].data();
+  const double* __restrict x1 = p.position[Dim > 1 ? 1 : 0].data();
+  const double* __restrict x2 = p.position[Dim > 2 ? 2 : 0].data();
+  const double* __restrict v0 = p.velocity[0].data();
+  const double* __restrict v1 = p.velocity[Dim > 1 ? 1 : 0].data();
+  const double* __restrict v2 = p.velocity[Dim > 2 ? 2 : 0].data();
+  const double* __restrict rho = p.density.data();
+  const double* __restrict p_over_rho2 = t.p_over_rho2.data();
+  const double* __restrict inv_rho2 = t.inv_rho2.data();
+  const double* __restrict inv_rho = t.inv_rho.data();
+  const double* __restrict hydro_k = t.hydro_k.data();
+  const double* __restrict fluid_mask = t.fluid_mask.data();
+  double* __restrict density_rate = p.density_rate.data();
 
   double max_accel2 = 0.0;
   double max_vij2 = 0.0;
   double max_rho = 0.0;
 
-#pragma omp parallel for schedule(dynamic, 512) num_threads(threads) \
-    reduction(max : max_accel2, max_vij2, max_rho)
-  for (long i = 0; i < n; ++i) {
-    max_rho = std::max(max_rho, rho[i]);
-    std::array<double, Dim> xi{}, vi{};
-    for (int d = 0; d < Dim; ++d) {
-      xi[d] = x[d][i];
-      vi[d] = v[d][i];
-    }
-    const double rho_i = rho[i];
-    double drho = 0.0;
+#pragma omp parallel num_threads(threads)
+  {
+    std::vector<std::uint32_t> neighbors(512);
+#pragma omp for schedule(dynamic, 256) reduction(max : max_accel2, max_vij2, max_rho)
+    for (long i = 0; i < n; ++i) {
+      max_rho = std::max(max_rho, rho[i]);
+      std::array<double, Dim> xi{};
+      for (int d = 0; d < Dim; ++d) xi[d] = x[d][i];
+      const double xi0 = x0[i], xi1 = Dim > 1 ? x1[i] : 0.0, xi2 = Dim > 2 ? x2[i] : 0.0;
+      const double vi0 = v0[i], vi1 = Dim > 1 ? v1[i] : 0.0, vi2 = Dim > 2 ? v2[i] : 0.0;
+      const double rho_i = rho[i];
+      const std::uint32_t count = collect_neighbors<Dim>(grid, cell_of[i], xi, x, support2, min_r2, neighbors);
+      const std::uint32_t* __restrict list = neighbors.data();
+      double drho = 0.0;
 
-    if (fluid_mask[i] == 0.0) {
-      // Wall particle: fixed, its density evolves by continuity with the fluid around it.
-      grid.for_each_neighbor_range(cell_of[i], [&](std::uint32_t begin, std::uint32_t end) {
+      if (fluid_mask[i] == 0.0) {
+        // Wall particle: fixed, its density evolves by continuity with the fluid around it.
 #pragma omp simd reduction(+ : drho)
-        for (std::uint32_t j = begin; j < end; ++j) {
-          double r2 = 0.0, v_dot_r = 0.0;
-          for (int d = 0; d < Dim; ++d) {
-            const double dx = xi[d] - x[d][j];
-            r2 += dx * dx;
-            v_dot_r += (vi[d] - v[d][j]) * dx;
-          }
-          const bool inside = r2 < support2 && r2 > min_r2;
-          const double r = std::sqrt(r2);
-          const double inv_r = inside ? 1.0 / r : 0.0;
-          const double dW = inside ? kernel.derivative(r) : 0.0;
-          drho += pair::continuity(m, dW, v_dot_r * inv_r);
+        for (std::uint32_t k = 0; k < count; ++k) {
+          const std::uint32_t j = list[k];
+          const double dx0 = xi0 - x0[j];
+          const double dx1 = Dim > 1 ? xi1 - x1[j] : 0.0;
+          const double dx2 = Dim > 2 ? xi2 - x2[j] : 0.0;
+          const double r = std::sqrt(dx0 * dx0 + dx1 * dx1 + dx2 * dx2);
+          const double v_dot_r = (vi0 - v0[j]) * dx0 + (Dim > 1 ? (vi1 - v1[j]) * dx1 : 0.0) +
+                                 (Dim > 2 ? (vi2 - v2[j]) * dx2 : 0.0);
+          drho += pair::continuity(m, kernel.derivative_inside(r), v_dot_r / r);
         }
-      });
-      density_rate[i] = drho;
-      continue;
-    }
+        density_rate[i] = drho;
+        continue;
+      }
 
-    const double pr_i = p_over_rho2[i];
-    const double ir2_i = inv_rho2[i];
-    const double k_i = hydro_k[i];
-    std::array<double, Dim> acc{};
-    double vij2_max = 0.0;
-    grid.for_each_neighbor_range(cell_of[i], [&](std::uint32_t begin, std::uint32_t end) {
+      const double pr_i = p_over_rho2[i];
+      const double ir2_i = inv_rho2[i];
+      const double k_i = hydro_k[i];
       double acc0 = 0.0, acc1 = 0.0, acc2 = 0.0;
+      double vij2_max = 0.0;
 #pragma omp simd reduction(+ : acc0, acc1, acc2, drho) reduction(max : vij2_max)
-      for (std::uint32_t j = begin; j < end; ++j) {
-        std::array<double, Dim> dx{}, vij{};
-        double r2 = 0.0, v_dot_r = 0.0, vij2 = 0.0, g_dot_r = 0.0;
-        for (int d = 0; d < Dim; ++d) {
-          dx[d] = xi[d] - x[d][j];
-          vij[d] = vi[d] - v[d][j];
-          r2 += dx[d] * dx[d];
-          v_dot_r += vij[d] * dx[d];
-          vij2 += vij[d] * vij[d];
-          g_dot_r += s.gravity[d] * dx[d];
-        }
-        const bool inside = r2 < support2 && r2 > min_r2;
+      for (std::uint32_t k = 0; k < count; ++k) {
+        const std::uint32_t j = list[k];
+        const double dx0 = xi0 - x0[j];
+        const double dx1 = Dim > 1 ? xi1 - x1[j] : 0.0;
+        const double dx2 = Dim > 2 ? xi2 - x2[j] : 0.0;
+        const double vij0 = vi0 - v0[j];
+        const double vij1 = Dim > 1 ? vi1 - v1[j] : 0.0;
+        const double vij2 = Dim > 2 ? vi2 - v2[j] : 0.0;
+        const double r2 = dx0 * dx0 + dx1 * dx1 + dx2 * dx2;
+        const double v_dot_r = vij0 * dx0 + vij1 * dx1 + vij2 * dx2;
+        const double g_dot_r = g0 * dx0 + g1 * dx1 + g2 * dx2;
         const double r = std::sqrt(r2);
-        const double inv_r = inside ? 1.0 / r : 0.0;
-        const double dW = inside ? kernel.derivative(r) : 0.0;
+        const double inv_r = 1.0 / r;
+        const double dW = kernel.derivative_inside(r);
 
         const double along_e = pair::pressure(m, pr_i, p_over_rho2[j], dW) +
-                               pair::artificial_viscosity(s.alpha, c0, s.h, m, v_dot_r, r2,
-                                                          0.5 * (rho_i + rho[j]), dW);
-        const double along_v = pair::laminar_viscosity(s.viscosity, m, ir2_i, inv_rho2[j], dW, inv_r);
+                               pair::artificial_viscosity(alpha, c0, h, m, v_dot_r, r2, 0.5 * (rho_i + rho[j]), dW);
+        const double along_v = pair::laminar_viscosity(mu, m, ir2_i, inv_rho2[j], dW, inv_r);
         const double drho_hydro = -0.5 * (k_i + hydro_k[j]) * g_dot_r;  // rho_j^H - rho_i^H
         drho += pair::continuity(m, dW, v_dot_r * inv_r) +
-                fluid_mask[j] * pair::density_diffusion(delta_h_c0, m, rho_i, rho[j], drho_hydro, dW, inv_r,
-                                                        inv_rho[j]);
-        acc0 += along_e * dx[0] * inv_r + along_v * vij[0];
-        if constexpr (Dim > 1) acc1 += along_e * dx[1] * inv_r + along_v * vij[1];
-        if constexpr (Dim > 2) acc2 += along_e * dx[2] * inv_r + along_v * vij[2];
-        vij2_max = std::max(vij2_max, inside ? vij2 : 0.0);
+                fluid_mask[j] *
+                    pair::density_diffusion(delta_h_c0, m, rho_i, rho[j], drho_hydro, dW, inv_r, inv_rho[j]);
+        const double e_factor = along_e * inv_r;
+        acc0 += e_factor * dx0 + along_v * vij0;
+        acc1 += e_factor * dx1 + along_v * vij1;
+        acc2 += e_factor * dx2 + along_v * vij2;
+        vij2_max = std::max(vij2_max, vij0 * vij0 + vij1 * vij1 + vij2 * vij2);
       }
-      acc[0] += acc0;
-      if constexpr (Dim > 1) acc[1] += acc1;
-      if constexpr (Dim > 2) acc[2] += acc2;
-    });
-    double accel2 = 0.0;
-    for (int d = 0; d < Dim; ++d) {
-      acc[d] += s.gravity[d];
-      a[d][i] = acc[d];
-      accel2 += acc[d] * acc[d];
+      acc0 += g0;
+      acc1 += g1;
+      acc2 += g2;
+      p.acceleration[0][i] = acc0;
+      if constexpr (Dim > 1) p.acceleration[1][i] = acc1;
+      if constexpr (Dim > 2) p.acceleration[2][i] = acc2;
+      density_rate[i] = drho;
+      max_accel2 = std::max(max_accel2, acc0 * acc0 + acc1 * acc1 + acc2 * acc2);
+      max_vij2 = std::max(max_vij2, vij2_max);
     }
-    density_rate[i] = drho;
-    max_accel2 = std::max(max_accel2, accel2);
-    max_vij2 = std::max(max_vij2, vij2_max);
   }
   return {std::sqrt(max_accel2), std::sqrt(max_vij2), max_rho};
 }
