@@ -46,9 +46,9 @@ void Simulation::init(const Case& c) {
   grid_ = CellGrid<2>({-margin, -margin}, {c.tank_width + margin, c.tank_height + margin}, 2.0 * h);
 }
 
-RateSummary Simulation::evaluate(bool shepard_due) {
+RateSummary Simulation::evaluate(bool shepard_due, bool mid_step) {
   grid_.bin(particles_.position);
-  particles_.permute(grid_.order(), scratch_);
+  particles_.permute(grid_.order(), scratch_, mid_step, threads_);
   const bool repair_due = std::any_of(particles_.needs_density_repair.begin(), particles_.needs_density_repair.end(),
                                       [](std::uint8_t f) { return f != 0; });
   return std::visit(
@@ -59,7 +59,7 @@ RateSummary Simulation::evaluate(bool shepard_due) {
                          [&](std::size_t i) { return shepard_due || repair[i] != 0; });
           std::fill(particles_.needs_density_repair.begin(), particles_.needs_density_repair.end(), 0);
         }
-        terms_.compute(particles_, settings_.eos);
+        terms_.compute(particles_, settings_.eos, threads_);
         return compute_rates(particles_, grid_, kernel, settings_, terms_, threads_);
       },
       kernel_);
@@ -78,7 +78,7 @@ double Simulation::choose_dt(const RateSummary& r) const {
 
 void Simulation::step(double time_limit) {
   const bool shepard_due = case_.shepard_every > 0 && clock_.step > 0 && clock_.step % case_.shepard_every == 0;
-  const RateSummary rates = evaluate(shepard_due);
+  const RateSummary rates = evaluate(shepard_due, false);
   double dt = choose_dt(rates);
   if (!(dt > 0.0) || !std::isfinite(dt))
     throw std::runtime_error(fmt::format("time step {} at t = {} s is not a positive finite number", dt, clock_.time));
@@ -87,13 +87,13 @@ void Simulation::step(double time_limit) {
   if (reaches_limit) dt = time_limit - clock_.time;
   const double floor = settings_.eos.rest_density;
   if (predictor_corrector_) {
-    predictor_update(particles_, dt, floor);
-    evaluate(false);
-    corrector_update(particles_, dt, floor);
+    predictor_update(particles_, dt, floor, threads_);
+    evaluate(false, true);
+    corrector_update(particles_, dt, floor, threads_);
   } else {
-    euler_update(particles_, dt, floor);
+    euler_update(particles_, dt, floor, threads_);
   }
-  clock_.leaks += static_cast<std::int64_t>(put_back_leaked(particles_, solids_, case_.dx));
+  clock_.leaks += static_cast<std::int64_t>(put_back_leaked(particles_, solids_, case_.dx, threads_));
   clock_.time = reaches_limit ? time_limit : clock_.time + dt;
   clock_.last_dt = dt;
   ++clock_.step;

@@ -71,7 +71,7 @@ class Simulation {
   void init(const Case& c);
   // Rebuilds the neighbour grid (reordering the particles by cell), applies the Shepard filter when
   // due and any pending density repairs, and computes the rates.
-  RateSummary evaluate(bool shepard_due);
+  RateSummary evaluate(bool shepard_due, bool mid_step);
   double choose_dt(const RateSummary& r) const;
 
   Case case_;

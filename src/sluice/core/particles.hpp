@@ -56,18 +56,29 @@ struct Particles {
 
   [[nodiscard]] bool is_fluid(std::size_t i) const { return kind[i] == Kind::fluid; }
 
-  // Reorders every field so that new index k holds what old index order[k] held.
-  // `scratch` avoids an allocation per call.
-  void permute(const std::vector<std::uint32_t>& order, std::vector<double>& scratch) {
-    const std::size_t n = size();
-    scratch.resize(n);
+  // Reorders the fields so that new index k holds what old index order[k] held. Rates are not
+  // reordered (they are recomputed after every reordering); the step-start state only when asked
+  // (during a multi-stage step). `scratch` avoids an allocation per call.
+  void permute(const std::vector<std::uint32_t>& order, std::vector<double>& scratch, bool with_step_start,
+               int threads) {
+    const long n = static_cast<long>(size());
+    scratch.resize(static_cast<std::size_t>(n));
     auto apply = [&](std::vector<double>& field) {
-      for (std::size_t k = 0; k < n; ++k) scratch[k] = field[order[k]];
+      const double* __restrict in = field.data();
+      double* __restrict out = scratch.data();
+      const std::uint32_t* __restrict from = order.data();
+#pragma omp parallel for num_threads(threads) schedule(static)
+      for (long k = 0; k < n; ++k) out[k] = in[from[k]];
       field.swap(scratch);
     };
-    for (auto* fields : {&position, &velocity, &acceleration, &position_start, &velocity_start})
-      for (auto& f : *fields) apply(f);
-    for (auto* f : {&density, &density_rate, &density_start}) apply(*f);
+    for (auto& f : position) apply(f);
+    for (auto& f : velocity) apply(f);
+    apply(density);
+    if (with_step_start) {
+      for (auto& f : position_start) apply(f);
+      for (auto& f : velocity_start) apply(f);
+      apply(density_start);
+    }
     permute_small(kind, order);
     permute_small(id, order);
     permute_small(needs_density_repair, order);

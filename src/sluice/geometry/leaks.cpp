@@ -20,14 +20,16 @@ const Polygon* containing(const std::vector<SolidBox>& boxes, Vec2 x) {
 
 }  // namespace
 
-std::size_t put_back_leaked(Particles<2>& p, const std::vector<Polygon>& solids, double dx) {
+std::size_t put_back_leaked(Particles<2>& p, const std::vector<Polygon>& solids, double dx, int threads) {
   std::vector<SolidBox> boxes;
   boxes.reserve(solids.size());
   for (const Polygon& s : solids) boxes.push_back({&s, s.lower(), s.upper()});
 
-  std::size_t count = 0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    if (!p.is_fluid(i)) continue;
+  long count = 0;
+  const long n = static_cast<long>(p.size());
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(+ : count)
+  for (long i = 0; i < n; ++i) {
+    if (p.kind[i] != Kind::fluid) continue;
     Vec2 x{p.position[0][i], p.position[1][i]};
     const Polygon* solid = containing(boxes, x);
     if (solid == nullptr) continue;
@@ -51,7 +53,7 @@ std::size_t put_back_leaked(Particles<2>& p, const std::vector<Polygon>& solids,
     p.velocity[1][i] = v[1];
     p.needs_density_repair[i] = 1;
   }
-  return count;
+  return static_cast<std::size_t>(count);
 }
 
 }  // namespace sluice

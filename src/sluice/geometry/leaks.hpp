@@ -12,6 +12,6 @@
 namespace sluice {
 
 // Returns the number of particles put back.
-std::size_t put_back_leaked(Particles<2>& p, const std::vector<Polygon>& solids, double dx);
+std::size_t put_back_leaked(Particles<2>& p, const std::vector<Polygon>& solids, double dx, int threads = 1);
 
 }  // namespace sluice
