@@ -1,5 +1,8 @@
 // The sluice command line: lists the commands (each in its own file) and maps errors to exit codes.
+#include <algorithm>
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include "sluice/app/commands.hpp"
 #include "sluice/case/params.hpp"
@@ -20,12 +23,42 @@ int main(int argc, char** argv) {
       app::add_init_command(cli),
   };
 
+  // No command, or an unknown one: CLI11 would only say "A subcommand is required".
+  std::vector<std::string> names;
+  for (const auto& c : commands) names.push_back(c.cli->get_name());
+  std::string list;
+  for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+  if (argc == 1) {
+    std::cerr << "sluice: error: no command given; expected one of: " << list
+              << "\nRun `sluice --help` for the commands.\n";
+    return app::exit_bad_input;
+  }
+  const std::string first = argv[1];
+  if (first[0] == '-' && first != "-h" && first != "--help" && first != "--version") {
+    std::cerr << "sluice: error: unknown option '" << first << "'; expected a command (" << list
+              << "), --help or --version\nRun `sluice --help` for the commands.\n";
+    return app::exit_bad_input;
+  }
+  if (first[0] != '-') {
+    if (std::find(names.begin(), names.end(), argv[1]) == names.end()) {
+      const auto near = closest_match(argv[1], names);
+      std::cerr << "sluice: error: unknown command '" << argv[1] << "'; "
+                << (near ? "did you mean '" + *near + "'?" : "expected one of: " + list)
+                << "\nRun `sluice --help` for the commands.\n";
+      return app::exit_bad_input;
+    }
+  }
+
   try {
     cli.parse(argc, argv);
   } catch (const CLI::Success& e) {
     return cli.exit(e);
   } catch (const CLI::ParseError& e) {
-    cli.exit(e);
+    // Same form as every other error: "sluice: error: ..." on stderr, exit status 2.
+    std::string help = "sluice --help";
+    for (const auto& c : commands)
+      if (argc > 1 && c.cli->get_name() == argv[1]) help = "sluice " + c.cli->get_name() + " --help";
+    std::cerr << "sluice: error: " << e.what() << "\nRun `" << help << "` for the options.\n";
     return app::exit_bad_input;
   }
 

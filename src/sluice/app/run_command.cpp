@@ -31,7 +31,9 @@ extern "C" void on_signal(int signal) {
 Case resolve_case(const std::string& name_or_path) {
   if (name_or_path.empty()) return *load_builtin_case("dam_break");
   std::error_code ec;
-  if (!fs::exists(name_or_path, ec)) {
+  // A built-in name, unless a file of that name exists (a directory of that name, such as the output
+  // of `sluice run dam_break -o dam_break`, does not hide the built-in case).
+  if (!fs::exists(name_or_path, ec) || fs::is_directory(name_or_path, ec)) {
     if (auto c = load_builtin_case(name_or_path)) return *c;
   }
   return load_case_file(name_or_path);
@@ -58,7 +60,7 @@ int run(const RunArgs& a) {
     if (options.output_dir.empty()) options.output_dir = ".";
   } else {
     c = resolve_case(a.case_arg);
-    for (const auto& s : a.sets) apply_override(c, s);
+    apply_overrides(c, a.sets);
     options.output_dir = a.output.empty() ? fs::path("out") / c.name : fs::path(a.output);
   }
   options.progress = a.quiet ? RunOptions::Progress::none
@@ -116,6 +118,9 @@ Command add_init_command(CLI::App& app) {
             const auto c = load_builtin_case(args->from);
             if (!c) throw BadInput(fmt::format("--from {}: no built-in case of that name; see `sluice cases`", args->from));
             std::error_code ec;
+            if (fs::is_directory(args->path, ec))
+              throw BadInput(fmt::format("{}: is a directory; expected the name of the case file to write, e.g. {}",
+                                         args->path, (fs::path(args->path) / "case.toml").string()));
             if (fs::exists(args->path, ec) && !args->force)
               throw BadInput(fmt::format("{}: already exists; use --force to overwrite it", args->path));
             write_file_atomic(args->path, case_template(*c));

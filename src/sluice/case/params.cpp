@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <regex>
 #include <set>
@@ -158,11 +159,26 @@ std::string format_number(double v) {
   return s;
 }
 
+// A TOML basic string. Control characters are escaped so that any string (a description with a
+// newline or a tab, say) reads back unchanged from the template and from checkpoints.
 std::string quote(const std::string& s) {
   std::string out = "\"";
   for (char ch : s) {
-    if (ch == '"' || ch == '\\') out += '\\';
-    out += ch;
+    const auto u = static_cast<unsigned char>(ch);
+    if (ch == '"' || ch == '\\') {
+      out += '\\';
+      out += ch;
+    } else if (ch == '\n') {
+      out += "\\n";
+    } else if (ch == '\t') {
+      out += "\\t";
+    } else if (ch == '\r') {
+      out += "\\r";
+    } else if (u < 0x20 || u == 0x7f) {
+      out += fmt::format("\\u{:04X}", static_cast<unsigned>(u));
+    } else {
+      out += ch;
+    }
   }
   return out + "\"";
 }
@@ -224,6 +240,10 @@ std::string describe_node(const toml::node& n) {
   std::ostringstream out;
   if (n.is_table()) return "a table";
   if (n.is_array_of_tables()) return "an array of tables";
+  if (n.is_string()) {  // as written in a case file, not toml++'s 'literal' form
+    std::string s = quote(n.as_string()->get());
+    return s.size() > 60 ? s.substr(0, 56) + "...\"" : s;
+  }
   n.visit([&](const auto& v) { out << v; });
   std::string s = out.str();
   if (s.size() > 60) s = s.substr(0, 57) + "...";
@@ -380,6 +400,14 @@ Case parse_case(std::string_view toml_text, const std::string& source) {
     const auto section = std::find_if(case_sections().begin(), case_sections().end(),
                                       [&](const Section& s) { return s.name == name; });
     if (section == case_sections().end()) {
+      if (!node.is_table() && !node.is_array()) {  // a key written before any [section] header
+        const auto near = closest_match(name, all_keys());
+        throw CaseError(fmt::format("{}: key '{}' is outside any section; {}", where(source, node), name,
+                                    near ? fmt::format("did you mean '{}' (key '{}' under [{}])?", *near,
+                                                       near->substr(near->find('.') + 1),
+                                                       near->substr(0, near->find('.')))
+                                         : std::string("keys belong under a [section] header; see `sluice init`")));
+      }
       const auto near = closest_match(name, section_names);
       throw CaseError(fmt::format("{}: unknown section '{}'{}", where(source, node), name,
                                   near ? fmt::format("; did you mean '{}'?", *near)
@@ -427,7 +455,50 @@ Case load_case_file(const std::filesystem::path& path) {
   return parse_case(text.str(), path.string());
 }
 
-void apply_override(Case& c, std::string_view assignment) {
+namespace {
+
+// The value of `--set key=text` for parameter p, as a TOML node held under "value" in the returned
+// table. The text is TOML ("0.1", "[3.0, 4.0]", "\"euler\""); a bare word is taken as a string, so
+// time.integrator=euler and case.name=2024 mean the strings, and a string list may be written bare
+// (output.formats=npz,vtk or [npz, vtk]) since shells strip the quotes from ["npz", "vtk"].
+template <class Owner>
+toml::table override_value(const Param<Owner>& p, const std::string& text, const std::string& at) {
+  if (text.empty())
+    throw CaseError(fmt::format("{}: no value after '='; expected {}", at, expectation(p)));
+  std::optional<toml::table> parsed;
+  try {
+    const std::string document = "value = " + text;
+    toml::table t = toml::parse(std::string_view(document), std::string_view("--set"));
+    if (t.size() == 1 && t.contains("value")) parsed = std::move(t);  // "1\nother = 2" is not one value
+  } catch (const toml::parse_error&) {
+  }
+  const bool quoted = text.front() == '"' || text.front() == '\'';
+  if (std::holds_alternative<std::string Owner::*>(p.field)) {
+    if (parsed && parsed->get("value")->is_string()) return *parsed;
+    if (!quoted) return toml::table{{"value", text}};
+  } else if (std::holds_alternative<std::vector<std::string> Owner::*>(p.field)) {
+    if (parsed && parsed->get("value")->is_array()) return *parsed;
+    std::string_view list = text;
+    if (list.size() >= 2 && list.front() == '[' && list.back() == ']') list = list.substr(1, list.size() - 2);
+    toml::array items;
+    while (true) {
+      const auto comma = list.find(',');
+      std::string item(list.substr(0, comma));
+      item.erase(0, item.find_first_not_of(" \t"));
+      item.erase(item.find_last_not_of(" \t") + 1);
+      if (item.size() >= 2 && (item.front() == '"' || item.front() == '\'') && item.back() == item.front())
+        item = item.substr(1, item.size() - 2);
+      if (!item.empty()) items.push_back(item);
+      if (comma == std::string_view::npos) break;
+      list.remove_prefix(comma + 1);
+    }
+    return toml::table{{"value", std::move(items)}};
+  }
+  if (parsed) return *parsed;
+  return toml::table{{"value", text}};  // not TOML: shown as given in the "wrong type" message
+}
+
+void apply_one_override(Case& c, std::string_view assignment) {
   const std::string at = fmt::format("--set {}", assignment);
   const auto eq = assignment.find('=');
   if (eq == std::string_view::npos)
@@ -439,29 +510,32 @@ void apply_override(Case& c, std::string_view assignment) {
   };
   const std::string key = trim(assignment.substr(0, eq));
   const std::string text = trim(assignment.substr(eq + 1));
-
-  toml::table holder;
-  try {
-    const std::string document = "value = " + text;
-    holder = toml::parse(std::string_view(document), std::string_view("--set"));
-  } catch (const toml::parse_error&) {
-    holder = toml::table{{"value", text}};  // a bare word: take it as a string
-  }
-  const toml::node& value = *holder.get("value");
+  if (key.empty())
+    throw CaseError(fmt::format("{}: no key before '='; expected key=value, for example --set domain.dx=0.1", at));
 
   static const std::regex item_key(R"(^(water|wall|probe)(?:\[(\d+)\]|\.(\d+))\.(\w+)$)");
   std::smatch m;
   if (std::regex_match(key, m, item_key)) {
     const std::string section = m[1];
-    const std::size_t index = std::stoul(m[2].matched ? m[2].str() : m[3].str());
+    const std::string digits = m[2].matched ? m[2].str() : m[3].str();
     const std::string sub = m[4];
     auto apply = [&](auto& items, const auto& params) {
+      // Compare as text first: an index too long for an integer is simply out of range.
+      const std::size_t index = digits.size() > 9 ? std::numeric_limits<std::size_t>::max() : std::stoul(digits);
       if (index >= items.size())
-        throw CaseError(fmt::format("{}: the case has {} [[{}]] entries (numbered from 0); there is no {}", at,
-                                    items.size(), section, index));
+        throw CaseError(fmt::format("{}: the case has {} [[{}]] entr{} (numbered from 0); there is no {}[{}]", at,
+                                    items.size(), section, items.size() == 1 ? "y" : "ies", section, digits));
       const auto* p = find_param(params, sub);
-      if (p == nullptr) fail_unknown_key(at, section + "." + sub, all_keys());
-      assign(items[index], *p, value, at, key);
+      if (p == nullptr) {
+        std::vector<std::string> candidates;
+        for (const auto& q : params) candidates.push_back(q.key);
+        const auto near = closest_match(sub, candidates);
+        throw CaseError(fmt::format("{}: unknown key '{}' in [[{}]]; {}", at, sub, section,
+                                    near ? fmt::format("did you mean '{}[{}].{}'?", section, digits, *near)
+                                         : fmt::format("expected one of: {}", fmt::join(candidates, ", "))));
+      }
+      const toml::table holder = override_value(*p, text, at);
+      assign(items[index], *p, *holder.get("value"), at, key);
     };
     if (section == "water") apply(c.water, region_params());
     else if (section == "wall") apply(c.walls, region_params());
@@ -469,14 +543,37 @@ void apply_override(Case& c, std::string_view assignment) {
   } else {
     const auto* p = find_param(case_params(), key);
     if (p == nullptr) fail_unknown_key(at, key, all_keys());
-    assign(c, *p, value, at, key);
+    const toml::table holder = override_value(*p, text, at);
+    assign(c, *p, *holder.get("value"), at, key);
   }
-  validate_case(c, at);
+}
+
+}  // namespace
+
+void apply_override(Case& c, std::string_view assignment) {
+  apply_one_override(c, assignment);
+  validate_case(c, fmt::format("--set {}", assignment));
+}
+
+void apply_overrides(Case& c, const std::vector<std::string>& assignments) {
+  for (const auto& a : assignments) apply_one_override(c, a);
+  if (!assignments.empty())
+    validate_case(c, fmt::format("with --set {}", fmt::join(assignments, " --set ")));
 }
 
 void validate_case(const Case& c, const std::string& source) {
   auto fail = [&](const std::string& what) { throw CaseError(fmt::format("{}: {}", source, what)); };
   const double h = c.smoothing_length();
+  // The name is the default output folder out/<name> and the .pvd file's name: it must be one plain
+  // path component.
+  const bool control_char = std::any_of(c.name.begin(), c.name.end(), [](char ch) {
+    return static_cast<unsigned char>(ch) < 0x20 || static_cast<unsigned char>(ch) == 0x7f;
+  });
+  if (c.name.empty() || c.name == "." || c.name == ".." || c.name.find_first_of("/\\") != std::string::npos ||
+      control_char)
+    fail(fmt::format("case.name = {}: not a usable name; expected a non-empty name without slashes or control "
+                     "characters, other than \".\" and \"..\" (it names the output folder out/<name>)",
+                     quote(c.name)));
   if (c.tank_width < 2.0 * c.dx || c.tank_height < 2.0 * c.dx)
     fail(fmt::format("the tank ({} m x {} m) is smaller than two particle spacings (dx = {} m)", c.tank_width,
                      c.tank_height, c.dx));
@@ -598,6 +695,8 @@ std::optional<std::string> closest_match(std::string_view word, const std::vecto
     const auto dot_pos = c.rfind('.');
     if (dot_pos != std::string::npos && word.find('.') == std::string_view::npos)
       d = std::min(d, distance(word, std::string_view(c).substr(dot_pos + 1)));
+    // A word that is the start of a candidate ("wendland" for "wendland_c2") is a likely abbreviation.
+    if (word.size() >= 3 && std::string_view(c).starts_with(word)) d = std::min<std::size_t>(d, 1);
     if (d < best_distance) {
       best_distance = d;
       best = c;

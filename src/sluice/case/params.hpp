@@ -54,8 +54,12 @@ Case parse_case(std::string_view toml_text, const std::string& source);
 Case load_case_file(const std::filesystem::path& path);
 
 // Applies one "key=value" override (value in TOML syntax; a bare word is taken as a string).
-// Keys of array items are written water[0].max (or water.0.max).
+// Keys of array items are written water[0].max (or water.0.max). Validates the case afterwards.
 void apply_override(Case& c, std::string_view assignment);
+
+// Applies several overrides, then validates once: overrides that are only valid together (a smaller
+// tank and a smaller water region) can be given in any order.
+void apply_overrides(Case& c, const std::vector<std::string>& assignments);
 
 // Cross-field checks that single-key ranges cannot express (regions inside the tank, ...).
 void validate_case(const Case& c, const std::string& source);

@@ -1,0 +1,799 @@
+// The case loader: defaults, every key type, ranges, unknown keys and values with suggestions, TOML
+// syntax errors, --set overrides, cross-field validation and the `sluice init` template round trip.
+#include <gtest/gtest.h>
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <sstream>
+#include <string>
+#include <type_traits>
+#include <variant>
+#include <vector>
+
+#include "sluice/case/params.hpp"
+
+namespace fs = std::filesystem;
+using namespace sluice;
+
+namespace {
+
+// A case needs one [[water]] region; everything else takes its default (tank 20 m x 10 m).
+const std::string minimal_water = "[[water]]\nmin = [0.0, 0.0]\nmax = [1.0, 1.0]\n";
+
+Case parse(const std::string& text) { return parse_case(text, "test.toml"); }
+
+// The CaseError message of `f`, or a test failure if it does not throw one.
+template <class F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const CaseError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "expected a CaseError";
+  return "";
+}
+
+std::string parse_error(const std::string& text) {
+  return error_of([&] { parse(text); });
+}
+
+std::string override_error(Case c, const std::string& assignment) {
+  return error_of([&] { apply_override(c, assignment); });
+}
+
+// Checks that `message` contains each of `parts`.
+void expect_contains(const std::string& message, std::initializer_list<std::string> parts) {
+  for (const auto& part : parts)
+    EXPECT_NE(message.find(part), std::string::npos) << "message:  " << message << "\nlacks:    " << part;
+}
+
+template <class Owner>
+ParamValue value_of(const Owner& o, const Param<Owner>& p) {
+  return std::visit([&](auto member) -> ParamValue { return o.*member; }, p.field);
+}
+
+std::string show(const ParamValue& v) {
+  return std::visit(
+      [](const auto& x) -> std::string {
+        using T = std::decay_t<decltype(x)>;
+        if constexpr (std::is_same_v<T, std::monostate>) return "(none)";
+        else if constexpr (std::is_same_v<T, std::string>) return '"' + x + '"';
+        else if constexpr (std::is_same_v<T, Vec2>) return fmt::format("[{}, {}]", x[0], x[1]);
+        else if constexpr (std::is_same_v<T, std::vector<std::string>>) return fmt::format("{} strings", x.size());
+        else return fmt::format("{}", x);
+      },
+      v);
+}
+
+// Field-by-field equality of two cases, written out so that a field missing from the declarations
+// (and so from the template) shows up too.
+void expect_regions_equal(const std::vector<Region>& a, const std::vector<Region>& b, const std::string& what) {
+  ASSERT_EQ(a.size(), b.size()) << what;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].shape, b[i].shape) << what << " " << i;
+    EXPECT_EQ(a[i].min, b[i].min) << what << " " << i;
+    EXPECT_EQ(a[i].max, b[i].max) << what << " " << i;
+  }
+}
+
+void expect_cases_equal(const Case& a, const Case& b) {
+  EXPECT_EQ(a.name, b.name);
+  EXPECT_EQ(a.description, b.description);
+  EXPECT_EQ(a.dx, b.dx);
+  EXPECT_EQ(a.h_over_dx, b.h_over_dx);
+  EXPECT_EQ(a.kernel, b.kernel);
+  EXPECT_EQ(a.tank_width, b.tank_width);
+  EXPECT_EQ(a.tank_height, b.tank_height);
+  EXPECT_EQ(a.tank_lid, b.tank_lid);
+  EXPECT_EQ(a.rest_density, b.rest_density);
+  EXPECT_EQ(a.sound_speed, b.sound_speed);
+  EXPECT_EQ(a.gamma, b.gamma);
+  EXPECT_EQ(a.viscosity, b.viscosity);
+  EXPECT_EQ(a.gravity, b.gravity);
+  EXPECT_EQ(a.artificial_viscosity, b.artificial_viscosity);
+  EXPECT_EQ(a.density_diffusion, b.density_diffusion);
+  EXPECT_EQ(a.shepard_every, b.shepard_every);
+  EXPECT_EQ(a.hydrostatic_start, b.hydrostatic_start);
+  EXPECT_EQ(a.end_time, b.end_time);
+  EXPECT_EQ(a.integrator, b.integrator);
+  EXPECT_EQ(a.cfl, b.cfl);
+  EXPECT_EQ(a.fixed_dt, b.fixed_dt);
+  EXPECT_EQ(a.output_interval, b.output_interval);
+  EXPECT_EQ(a.output_formats, b.output_formats);
+  EXPECT_EQ(a.checkpoint_interval, b.checkpoint_interval);
+  expect_regions_equal(a.water, b.water, "water");
+  expect_regions_equal(a.walls, b.walls, "wall");
+  ASSERT_EQ(a.probes.size(), b.probes.size());
+  for (std::size_t i = 0; i < a.probes.size(); ++i) {
+    EXPECT_EQ(a.probes[i].name, b.probes[i].name);
+    EXPECT_EQ(a.probes[i].type, b.probes[i].type);
+    EXPECT_EQ(a.probes[i].point, b.probes[i].point);
+    EXPECT_EQ(a.probes[i].direction, b.probes[i].direction);
+    EXPECT_EQ(a.probes[i].band, b.probes[i].band);
+    EXPECT_EQ(a.probes[i].interval, b.probes[i].interval);
+  }
+}
+
+// A case using every section and odd values: walls, probes of each type, strings with quotes,
+// backslashes, a newline, a tab and non-ASCII text, numbers that need all 17 digits.
+Case unusual_case() {
+  Case c = parse(R"(
+[case]
+name = "odd_case-1"
+description = "a \"quoted\" word, a back\\slash,\na newline,\ta tab and \u00e9t\u00e9"
+[domain]
+dx = 0.1
+h_over_dx = 2
+kernel = "wendland_c2"
+[tank]
+width = 3.3
+height = 1.1
+lid = false
+[fluid]
+density = 998.2
+sound_speed = 31.4
+gamma = 1
+viscosity = 0
+[physics]
+gravity = [0.1, -9.80665]
+artificial_viscosity = 0.0
+density_diffusion = 1
+shepard_every = 0
+hydrostatic_start = false
+[time]
+end = 1e-3
+integrator = "euler"
+cfl = 0.1
+dt = 1.2345678901234567e-5
+[output]
+interval = 0.30000000000000004
+formats = ["npz"]
+checkpoint_interval = 0.5
+[[water]]
+min = [0, 0]
+max = [1.7, 0.6]
+[[water]]
+shape = "box"
+min = [1.7, 0.0]
+max = [3.3, 0.2]
+[[wall]]
+min = [2.0, 0.0]
+max = [2.1, 0.5]
+[[probe]]
+name = "p1"
+type = "pressure"
+point = [3.2, 0.05]
+[[probe]]
+name = "gauge_a"
+type = "gauge"
+point = [1.5, 0]
+band = 0.05
+interval = 0.01
+[[probe]]
+name = "front"
+type = "front"
+point = [0, 0.01]
+direction = [1, 0.5]
+)");
+  return c;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Defaults
+
+TEST(CaseDefaults, EveryKeyTakesItsDeclaredDefault) {
+  const Case c = parse(minimal_water);
+  ASSERT_FALSE(case_params().empty());
+  for (const auto& p : case_params()) {
+    ASSERT_FALSE(std::holds_alternative<std::monostate>(p.default_value)) << p.key << " has no default";
+    EXPECT_EQ(value_of(c, p), p.default_value)
+        << p.key << ": got " << show(value_of(c, p)) << ", declared " << show(p.default_value);
+  }
+  ASSERT_EQ(c.water.size(), 1u);
+  EXPECT_TRUE(c.walls.empty());
+  EXPECT_TRUE(c.probes.empty());
+}
+
+TEST(CaseDefaults, ItemKeysTakeTheirDeclaredDefaults) {
+  const Case c = parse(minimal_water + "[[probe]]\nname = \"p\"\ntype = \"pressure\"\npoint = [1.0, 1.0]\n");
+  for (const auto& p : region_params()) {
+    if (!std::holds_alternative<std::monostate>(p.default_value)) {
+      EXPECT_EQ(value_of(c.water[0], p), p.default_value) << p.key;
+    }
+  }
+  for (const auto& p : probe_params()) {
+    if (!std::holds_alternative<std::monostate>(p.default_value)) {
+      EXPECT_EQ(value_of(c.probes[0], p), p.default_value) << p.key;
+    }
+  }
+}
+
+TEST(CaseDefaults, DefaultsMatchTheDocumentedValues) {
+  // The values the README and the template promise: a change here must be a deliberate one.
+  const Case c = parse(minimal_water);
+  EXPECT_EQ(c.name, "unnamed");
+  EXPECT_EQ(c.dx, 0.2);
+  EXPECT_EQ(c.h_over_dx, 1.3);
+  EXPECT_EQ(c.kernel, "cubic_spline");
+  EXPECT_EQ(c.tank_width, 20.0);
+  EXPECT_EQ(c.tank_height, 10.0);
+  EXPECT_TRUE(c.tank_lid);
+  EXPECT_EQ(c.rest_density, 1000.0);
+  EXPECT_EQ(c.gravity, (Vec2{0.0, -9.81}));
+  EXPECT_EQ(c.artificial_viscosity, 0.1);
+  EXPECT_EQ(c.density_diffusion, 0.1);
+  EXPECT_EQ(c.shepard_every, 20);
+  EXPECT_EQ(c.integrator, "predictor_corrector");
+  EXPECT_EQ(c.output_formats, (std::vector<std::string>{"vtk", "npz"}));
+  EXPECT_EQ(c.water[0].shape, "box");
+}
+
+TEST(CaseDefaults, DeclarationsAreConsistent) {
+  std::vector<std::string> section_names;
+  for (const auto& s : case_sections()) section_names.push_back(s.name);
+  std::vector<std::string> seen;
+  for (const auto& p : case_params()) {
+    EXPECT_FALSE(p.description.empty()) << p.key;
+    const auto dot = p.key.find('.');
+    ASSERT_NE(dot, std::string::npos) << p.key;
+    EXPECT_NE(std::find(section_names.begin(), section_names.end(), p.key.substr(0, dot)), section_names.end())
+        << p.key << " is in no declared section";
+    EXPECT_EQ(std::find(seen.begin(), seen.end(), p.key), seen.end()) << p.key << " declared twice";
+    seen.push_back(p.key);
+    // A default must itself be allowed.
+    if (const double* d = std::get_if<double>(&p.default_value); d && p.lower <= p.upper) {
+      EXPECT_GE(*d, p.lower) << p.key;
+      EXPECT_LE(*d, p.upper) << p.key;
+    }
+    if (const auto* s = std::get_if<std::string>(&p.default_value); s && !p.choices.empty()) {
+      EXPECT_NE(std::find(p.choices.begin(), p.choices.end(), *s), p.choices.end()) << p.key;
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Each type of key
+
+TEST(CaseTypes, RealAcceptsFloatsAndIntegers) {
+  EXPECT_EQ(parse("[domain]\ndx = 0.25\n" + minimal_water).dx, 0.25);
+  EXPECT_EQ(parse("[domain]\ndx = 1\n" + minimal_water).dx, 1.0);
+  EXPECT_EQ(parse("[time]\nend = 2.5e1\n" + minimal_water).end_time, 25.0);
+}
+
+TEST(CaseTypes, RealRejectsOtherTypes) {
+  expect_contains(parse_error("[domain]\ndx = \"0.1\"\n" + minimal_water),
+                  {"test.toml:2:6", "domain.dx", "0.1", "wrong type", "expected a number from 0.0001 to 100 (m)"});
+  expect_contains(parse_error("[domain]\ndx = true\n" + minimal_water), {"domain.dx = true", "wrong type"});
+  expect_contains(parse_error("[domain]\ndx = [0.1]\n" + minimal_water), {"domain.dx", "wrong type"});
+}
+
+TEST(CaseTypes, RealRejectsNonFinite) {
+  expect_contains(parse_error("[time]\nend = inf\n" + minimal_water), {"time.end = inf", "not a finite number"});
+  expect_contains(parse_error("[domain]\ndx = nan\n" + minimal_water), {"domain.dx = nan", "not a finite number"});
+}
+
+TEST(CaseTypes, Integer) {
+  EXPECT_EQ(parse("[physics]\nshepard_every = 7\n" + minimal_water).shepard_every, 7);
+  expect_contains(parse_error("[physics]\nshepard_every = 2.5\n" + minimal_water),
+                  {"test.toml:2:17", "physics.shepard_every = 2.5", "wrong type", "expected an integer >= 0 (steps)"});
+  expect_contains(parse_error("[physics]\nshepard_every = 3000000000\n" + minimal_water),
+                  {"physics.shepard_every = 3000000000", "out of range"});
+  expect_contains(parse_error("[physics]\nshepard_every = -1\n" + minimal_water),
+                  {"physics.shepard_every = -1", "out of range", "an integer >= 0"});
+}
+
+TEST(CaseTypes, Bool) {
+  EXPECT_FALSE(parse("[tank]\nlid = false\n" + minimal_water).tank_lid);
+  EXPECT_TRUE(parse("[tank]\nlid = true\n" + minimal_water).tank_lid);
+  expect_contains(parse_error("[tank]\nlid = \"no\"\n" + minimal_water),
+                  {"test.toml:2:7", "tank.lid", "no", "wrong type", "expected true or false"});
+  expect_contains(parse_error("[tank]\nlid = 1\n" + minimal_water), {"tank.lid = 1", "true or false"});
+}
+
+TEST(CaseTypes, StringChoices) {
+  EXPECT_EQ(parse("[domain]\nkernel = \"wendland_c2\"\n" + minimal_water).kernel, "wendland_c2");
+  EXPECT_EQ(parse("[time]\nintegrator = \"euler\"\n" + minimal_water).integrator, "euler");
+  expect_contains(parse_error("[time]\nintegrator = \"eulr\"\n" + minimal_water),
+                  {"test.toml:2:14", "time.integrator = \"eulr\"", "unknown value", "did you mean \"euler\"?",
+                   "expected one of \"predictor_corrector\", \"euler\""});
+  // An abbreviation finds its choice too.
+  expect_contains(parse_error("[domain]\nkernel = \"wendland\"\n" + minimal_water),
+                  {"domain.kernel", "did you mean \"wendland_c2\"?"});
+  // Nothing close: no suggestion, but the choices.
+  const std::string far = parse_error("[domain]\nkernel = \"gaussian\"\n" + minimal_water);
+  expect_contains(far, {"unknown value", "\"cubic_spline\", \"wendland_c2\""});
+  EXPECT_EQ(far.find("did you mean"), std::string::npos) << far;
+  expect_contains(parse_error("[domain]\nkernel = 3\n" + minimal_water), {"domain.kernel = 3", "wrong type"});
+}
+
+TEST(CaseTypes, FreeString) {
+  const Case c = parse("[case]\nname = \"tank 2\"\ndescription = \"x\"\n" + minimal_water);
+  EXPECT_EQ(c.name, "tank 2");
+  EXPECT_EQ(c.description, "x");
+  expect_contains(parse_error("[case]\nname = 5\n" + minimal_water), {"case.name = 5", "wrong type", "a string"});
+}
+
+TEST(CaseTypes, Vec2) {
+  EXPECT_EQ(parse("[physics]\ngravity = [0.5, -1]\n" + minimal_water).gravity, (Vec2{0.5, -1.0}));
+  for (const char* bad : {"[1.0]", "[1.0, 2.0, 3.0]", "[1.0, \"a\"]", "\"down\"", "-9.81", "[inf, 0.0]"})
+    expect_contains(parse_error(fmt::format("[physics]\ngravity = {}\n", bad) + minimal_water),
+                    {"test.toml:2:11", "physics.gravity", "wrong type", "an array of two numbers [x, y] (m/s^2)"});
+}
+
+TEST(CaseTypes, StringList) {
+  EXPECT_EQ(parse("[output]\nformats = [\"npz\"]\n" + minimal_water).output_formats,
+            (std::vector<std::string>{"npz"}));
+  EXPECT_EQ(parse("[output]\nformats = [\"npz\", \"vtk\"]\n" + minimal_water).output_formats,
+            (std::vector<std::string>{"npz", "vtk"}));
+  expect_contains(parse_error("[output]\nformats = [\"npz\", \"csv\"]\n" + minimal_water),
+                  {"test.toml:2:11", "output.formats", "unknown entry \"csv\"", "each one of \"vtk\", \"npz\""});
+  expect_contains(parse_error("[output]\nformats = [\"npz\", \"npz\"]\n" + minimal_water),
+                  {"\"npz\" listed twice"});
+  expect_contains(parse_error("[output]\nformats = \"npz\"\n" + minimal_water), {"output.formats", "wrong type"});
+  expect_contains(parse_error("[output]\nformats = [1]\n" + minimal_water), {"output.formats", "wrong type"});
+}
+
+// ---------------------------------------------------------------------------------------------
+// Ranges
+
+TEST(CaseRanges, BoundsAreInclusive) {
+  EXPECT_EQ(parse("[domain]\nh_over_dx = 1.0\n" + minimal_water).h_over_dx, 1.0);
+  EXPECT_EQ(parse("[domain]\nh_over_dx = 3.0\n" + minimal_water).h_over_dx, 3.0);
+  EXPECT_EQ(parse("[time]\ncfl = 0.3\n" + minimal_water).cfl, 0.3);
+  EXPECT_EQ(parse("[time]\nend = 0\n" + minimal_water).end_time, 0.0);
+}
+
+TEST(CaseRanges, OutOfRangeNamesKeyValueAndRange) {
+  expect_contains(parse_error("[domain]\ndx = -0.1\n" + minimal_water),
+                  {"test.toml:2:6", "domain.dx = -0.1", "out of range", "expected a number from 0.0001 to 100 (m)"});
+  expect_contains(parse_error("[domain]\nh_over_dx = 3.5\n" + minimal_water),
+                  {"domain.h_over_dx = 3.5", "out of range", "from 1 to 3"});
+  expect_contains(parse_error("[time]\ncfl = 0.5\n" + minimal_water), {"time.cfl = 0.5", "from 0.1 to 0.3"});
+  expect_contains(parse_error("[time]\nend = -1\n" + minimal_water),
+                  {"time.end = -1", "out of range", "a number >= 0 (s)"});
+  expect_contains(parse_error("[physics]\nartificial_viscosity = 1.5\n" + minimal_water),
+                  {"physics.artificial_viscosity = 1.5", "from 0 to 1"});
+  expect_contains(parse_error(minimal_water + "[[probe]]\nname = \"p\"\ntype = \"gauge\"\npoint = [1, 1]\nband = -1\n"),
+                  {"probe[0].band = -1", "out of range", ">= 0 (m)"});
+}
+
+// ---------------------------------------------------------------------------------------------
+// Unknown keys and sections
+
+TEST(CaseUnknown, KeyWithSuggestion) {
+  expect_contains(parse_error("[domain]\nddx = 0.1\n" + minimal_water),
+                  {"test.toml:2:7", "unknown key 'domain.ddx'", "did you mean 'domain.dx'?"});
+  expect_contains(parse_error("[time]\nintegator = \"euler\"\n" + minimal_water),
+                  {"unknown key 'time.integator'", "did you mean 'time.integrator'?"});
+}
+
+TEST(CaseUnknown, KeyWithoutCloseMatchPointsToInit) {
+  const std::string m = parse_error("[domain]\nresolution_of_everything = 0.1\n" + minimal_water);
+  expect_contains(m, {"unknown key 'domain.resolution_of_everything'", "sluice init"});
+  EXPECT_EQ(m.find("did you mean"), std::string::npos) << m;
+}
+
+TEST(CaseUnknown, SectionWithSuggestion) {
+  expect_contains(parse_error("[domian]\ndx = 0.1\n" + minimal_water),
+                  {"test.toml:1:1", "unknown section 'domian'", "did you mean 'domain'?"});
+  expect_contains(parse_error("domian.dx = 0.1\n" + minimal_water), {"unknown section 'domian'", "'domain'"});
+  expect_contains(parse_error("[[watr]]\nmin = [0, 0]\nmax = [1, 1]\n" + minimal_water),
+                  {"unknown section 'watr'", "did you mean 'water'?"});
+  expect_contains(parse_error("[zzzzzzzz]\nx = 1\n" + minimal_water), {"unknown section 'zzzzzzzz'", "expected one of: case, domain"});
+}
+
+TEST(CaseUnknown, KeyOutsideAnySection) {
+  expect_contains(parse_error("dx = 0.1\n" + minimal_water),
+                  {"test.toml:1:6", "'dx' is outside any section", "did you mean 'domain.dx'", "under [domain]"});
+}
+
+TEST(CaseUnknown, KeyInsideArrayItem) {
+  expect_contains(parse_error("[[water]]\nmin = [0.0, 0.0]\nmx = [1.0, 1.0]\n"),
+                  {"test.toml:3:6", "unknown key 'mx' in [[water]]", "did you mean 'max'?"});
+  expect_contains(parse_error(minimal_water + "[[probe]]\nname = \"p\"\ntype = \"gauge\"\npoint = [1, 1]\nbandd = 1\n"),
+                  {"unknown key 'bandd' in [[probe]]", "did you mean 'band'?"});
+  expect_contains(parse_error(minimal_water + "[[wall]]\nmin = [0, 0]\nmax = [1, 1]\ncolour = \"red\"\n"),
+                  {"unknown key 'colour' in [[wall]]", "expected one of: shape, min, max"});
+}
+
+TEST(CaseUnknown, SectionsOfTheWrongKind) {
+  expect_contains(parse_error("[water]\nmin = [0.0, 0.0]\nmax = [1.0, 1.0]\n"), {"'water' must be written as [[water]]"});
+  expect_contains(parse_error("domain = 3\n" + minimal_water), {"'domain' must be a section [domain]"});
+  expect_contains(parse_error("[[domain]]\ndx = 0.1\n" + minimal_water), {"'domain' must be a section [domain]"});
+  expect_contains(parse_error("[domain.dx]\nx = 1\n" + minimal_water), {"domain.dx = a table", "wrong type"});
+}
+
+TEST(CaseUnknown, MissingRequiredItemKey) {
+  expect_contains(parse_error("[[water]]\nmin = [0.0, 0.0]\n"),
+                  {"test.toml:1:1", "[[water]] number 1 has no 'max'", "expected an array of two numbers"});
+  expect_contains(parse_error(minimal_water + "[[probe]]\nname = \"p\"\npoint = [1, 1]\n"),
+                  {"test.toml:4:1", "[[probe]] number 1 has no 'type'", "\"pressure\", \"gauge\", \"front\""});
+  expect_contains(parse_error(minimal_water + "[[wall]]\nmax = [1, 1]\n"), {"[[wall]] number 1 has no 'min'"});
+}
+
+TEST(CaseSyntax, InvalidTomlHasLineAndColumn) {
+  expect_contains(parse_error("[domain\ndx = 0.1\n"), {"test.toml:1:8: not valid TOML"});
+  expect_contains(parse_error("[domain]\ndx = 0.1\ndx = 0.2\n"), {"test.toml:3:", "not valid TOML"});
+  expect_contains(parse_error("[domain]\ndx = 0..1\n"), {"test.toml:2:", "not valid TOML"});
+  expect_contains(parse_error("[case]\nname = \"unterminated\n"), {"test.toml:2:", "not valid TOML"});
+}
+
+// ---------------------------------------------------------------------------------------------
+// Files
+
+class CaseFiles : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           fmt::format("sluice_case_loader_{}_{}", ::testing::UnitTest::GetInstance()->current_test_info()->name(),
+                       std::chrono::steady_clock::now().time_since_epoch().count());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+  fs::path write(const std::string& name, const std::string& text) {
+    std::ofstream(dir_ / name) << text;
+    return dir_ / name;
+  }
+  fs::path dir_;
+};
+
+TEST_F(CaseFiles, LoadsAFile) {
+  const fs::path p = write("ok.toml", "[domain]\ndx = 0.5\n" + minimal_water);
+  EXPECT_EQ(load_case_file(p).dx, 0.5);
+}
+
+TEST_F(CaseFiles, ErrorsNameTheFile) {
+  const fs::path p = write("bad.toml", "[domain]\ndx = 500\n" + minimal_water);
+  const std::string m = error_of([&] { load_case_file(p); });
+  expect_contains(m, {p.string() + ":2:6: domain.dx = 500: out of range"});
+}
+
+TEST_F(CaseFiles, MissingFileAndDirectory) {
+  expect_contains(error_of([&] { load_case_file(dir_ / "nope.toml"); }),
+                  {(dir_ / "nope.toml").string(), "no such case file"});
+  expect_contains(error_of([&] { load_case_file(dir_); }), {dir_.string(), "is a directory"});
+}
+
+// ---------------------------------------------------------------------------------------------
+// --set overrides
+
+TEST(CaseOverrides, EveryScalarKeyType) {
+  Case c = parse(minimal_water);
+  apply_override(c, "domain.dx=0.1");
+  EXPECT_EQ(c.dx, 0.1);
+  apply_override(c, "domain.dx=1");  // an integer for a real
+  EXPECT_EQ(c.dx, 1.0);
+  apply_override(c, "physics.shepard_every=5");
+  EXPECT_EQ(c.shepard_every, 5);
+  apply_override(c, "tank.lid=false");
+  EXPECT_FALSE(c.tank_lid);
+  apply_override(c, "time.integrator=\"euler\"");
+  EXPECT_EQ(c.integrator, "euler");
+  apply_override(c, "physics.gravity=[0.0, -1.62]");
+  EXPECT_EQ(c.gravity, (Vec2{0.0, -1.62}));
+  apply_override(c, "output.formats=[\"npz\"]");
+  EXPECT_EQ(c.output_formats, (std::vector<std::string>{"npz"}));
+  apply_override(c, " time.end = 2.5 ");  // spaces around the key and value
+  EXPECT_EQ(c.end_time, 2.5);
+}
+
+TEST(CaseOverrides, EveryDeclaredKeyCanBeSetToItsDefault) {
+  Case c = parse(minimal_water);
+  apply_override(c, "domain.dx=0.1");
+  for (const auto& p : case_params()) {
+    // Render the default the way a user would type it.
+    const std::string text = std::visit(
+        [](const auto& x) -> std::string {
+          using T = std::decay_t<decltype(x)>;
+          if constexpr (std::is_same_v<T, std::string>) return '"' + x + '"';
+          else if constexpr (std::is_same_v<T, Vec2>) return fmt::format("[{}, {}]", x[0], x[1]);
+          else if constexpr (std::is_same_v<T, bool>) return x ? "true" : "false";
+          else if constexpr (std::is_same_v<T, std::vector<std::string>>) {
+            std::string s;
+            for (const auto& i : x) s += (s.empty() ? "\"" : ", \"") + i + "\"";
+            return "[" + s + "]";
+          } else if constexpr (std::is_same_v<T, std::monostate>) return "";
+          else return fmt::format("{}", x);
+        },
+        p.default_value);
+    SCOPED_TRACE(p.key + "=" + text);
+    EXPECT_NO_THROW(apply_override(c, p.key + "=" + text));
+    EXPECT_EQ(value_of(c, p), p.default_value);
+  }
+}
+
+TEST(CaseOverrides, BareWordsAreStrings) {
+  Case c = parse(minimal_water);
+  apply_override(c, "time.integrator=euler");
+  EXPECT_EQ(c.integrator, "euler");
+  apply_override(c, "case.name=my_run");
+  EXPECT_EQ(c.name, "my_run");
+  // A bare word that happens to be TOML of another type is still the string for a string key.
+  apply_override(c, "case.name=2024");
+  EXPECT_EQ(c.name, "2024");
+  apply_override(c, "case.description=a \"quoted\" word");
+  EXPECT_EQ(c.description, "a \"quoted\" word");
+  // String lists may be given bare, since shells strip the quotes from ["npz", "vtk"].
+  apply_override(c, "output.formats=npz");
+  EXPECT_EQ(c.output_formats, (std::vector<std::string>{"npz"}));
+  apply_override(c, "output.formats=[npz, vtk]");
+  EXPECT_EQ(c.output_formats, (std::vector<std::string>{"npz", "vtk"}));
+  apply_override(c, "output.formats=vtk,npz");
+  EXPECT_EQ(c.output_formats, (std::vector<std::string>{"vtk", "npz"}));
+}
+
+TEST(CaseOverrides, ItemKeys) {
+  Case c = parse(minimal_water + "[[water]]\nmin = [2.0, 0.0]\nmax = [3.0, 1.0]\n");
+  apply_override(c, "water[1].max=[3.0, 4.0]");
+  EXPECT_EQ(c.water[1].max, (Vec2{3.0, 4.0}));
+  apply_override(c, "water.1.max=[5.0, 6.0]");
+  EXPECT_EQ(c.water[1].max, (Vec2{5.0, 6.0}));
+  EXPECT_EQ(c.water[0].max, (Vec2{1.0, 1.0}));  // the other entry untouched
+
+  Case d = parse(minimal_water + "[[probe]]\nname = \"p\"\ntype = \"pressure\"\npoint = [1, 1]\n");
+  apply_override(d, "probe[0].type=gauge");
+  EXPECT_EQ(d.probes[0].type, "gauge");
+  apply_override(d, "probe[0].band=0.5");
+  EXPECT_EQ(d.probes[0].band, 0.5);
+}
+
+TEST(CaseOverrides, IndexOutOfRange) {
+  const Case c = parse(minimal_water);
+  expect_contains(override_error(c, "water[1].max=[3.0, 4.0]"),
+                  {"--set water[1].max=[3.0, 4.0]", "the case has 1 [[water]] entry", "there is no water[1]"});
+  expect_contains(override_error(c, "wall[0].min=[0, 0]"), {"the case has 0 [[wall]] entries"});
+  expect_contains(override_error(c, "water[99999999999999999999].max=[1, 1]"), {"there is no water[99999999999999999999]"});
+}
+
+TEST(CaseOverrides, UnknownKeys) {
+  const Case c = parse(minimal_water);
+  expect_contains(override_error(c, "domain.ddx=0.1"),
+                  {"--set domain.ddx=0.1: unknown key 'domain.ddx'; did you mean 'domain.dx'?"});
+  expect_contains(override_error(c, "domian.dx=0.1"), {"unknown key 'domian.dx'", "did you mean 'domain.dx'?"});
+  expect_contains(override_error(c, "water[0].mx=[1, 1]"),
+                  {"unknown key 'mx' in [[water]]", "did you mean 'water[0].max'?"});
+  expect_contains(override_error(c, "nothing_like_a_key=1"), {"unknown key 'nothing_like_a_key'", "sluice init"});
+}
+
+TEST(CaseOverrides, BadValues) {
+  const Case c = parse(minimal_water);
+  expect_contains(override_error(c, "domain.dx=-1"),
+                  {"--set domain.dx=-1: domain.dx = -1: out of range; expected a number from 0.0001 to 100 (m)"});
+  expect_contains(override_error(c, "domain.dx=abc"), {"domain.dx", "abc", "wrong type", "expected a number"});
+  expect_contains(override_error(c, "time.integrator=eulr"), {"unknown value (did you mean \"euler\"?)"});
+  expect_contains(override_error(c, "tank.lid=yes"), {"tank.lid", "yes", "expected true or false"});
+  expect_contains(override_error(c, "physics.gravity=[1]"), {"physics.gravity", "an array of two numbers"});
+  expect_contains(override_error(c, "output.formats=csv"), {"unknown entry \"csv\""});
+  expect_contains(override_error(c, "domain.dx=0.1\nfluid.density=3"), {"domain.dx", "wrong type"});
+}
+
+TEST(CaseOverrides, Malformed) {
+  const Case c = parse(minimal_water);
+  expect_contains(override_error(c, "domain.dx"), {"--set domain.dx: expected key=value"});
+  expect_contains(override_error(c, "domain.dx="), {"no value after '='", "expected a number from 0.0001 to 100"});
+  expect_contains(override_error(c, "=0.1"), {"no key before '='"});
+}
+
+TEST(CaseOverrides, ValidatedAfterwards) {
+  const Case c = parse(minimal_water);
+  expect_contains(override_error(c, "tank.width=0.5"), {"--set tank.width=0.5", "reaches outside the tank"});
+  expect_contains(override_error(c, "case.name=a/b"), {"case.name = \"a/b\"", "not a usable name"});
+}
+
+TEST(CaseOverrides, SeveralAreValidatedTogether) {
+  // Shrinking the tank first would leave the water outside it for a moment: the order of --set must
+  // not matter.
+  Case c = parse("[[water]]\nmin = [0.0, 0.0]\nmax = [10.0, 1.0]\n");
+  apply_overrides(c, {"tank.width=5", "water[0].max=[5.0, 1.0]"});
+  EXPECT_EQ(c.tank_width, 5.0);
+  EXPECT_EQ(c.water[0].max, (Vec2{5.0, 1.0}));
+  // ... but the result is still validated.
+  Case d = parse("[[water]]\nmin = [0.0, 0.0]\nmax = [10.0, 1.0]\n");
+  expect_contains(error_of([&] { apply_overrides(d, {"tank.width=5"}); }),
+                  {"with --set tank.width=5", "reaches outside the tank"});
+  // The first bad override stops at once with its own message.
+  expect_contains(error_of([&] { apply_overrides(d, {"domain.dx=1", "domain.ddx=1"}); }),
+                  {"--set domain.ddx=1: unknown key"});
+}
+
+// ---------------------------------------------------------------------------------------------
+// Cross-field validation
+
+TEST(CaseValidation, WaterOutsideTank) {
+  expect_contains(parse_error("[tank]\nwidth = 2.0\nheight = 1.0\n[[water]]\nmin = [0, 0]\nmax = [3.0, 0.5]\n"),
+                  {"test.toml: [[water]] number 1", "reaches outside the tank [0, 2] x [0, 1]"});
+  expect_contains(parse_error("[[water]]\nmin = [-1, 0]\nmax = [1, 1]\n"), {"reaches outside the tank"});
+  // Exactly filling the tank is fine.
+  EXPECT_NO_THROW(parse("[tank]\nwidth = 2.0\nheight = 1.0\n[[water]]\nmin = [0, 0]\nmax = [2.0, 1.0]\n"));
+}
+
+TEST(CaseValidation, MinNotBelowMax) {
+  expect_contains(parse_error("[[water]]\nmin = [1, 0]\nmax = [0.5, 1]\n"),
+                  {"[[water]] number 1", "min [1.0, 0.0] must be below and left of max [0.5, 1.0]"});
+  expect_contains(parse_error("[[water]]\nmin = [0, 1]\nmax = [1, 1]\n"), {"must be below and left of max"});
+  expect_contains(parse_error(minimal_water + "[[wall]]\nmin = [2, 2]\nmax = [1, 3]\n"),
+                  {"[[wall]] number 1", "must be below and left of max"});
+}
+
+TEST(CaseValidation, NoWater) {
+  expect_contains(parse_error("[domain]\ndx = 0.1\n"), {"no [[water]] region"});
+}
+
+TEST(CaseValidation, EmptyFormats) {
+  expect_contains(parse_error("[output]\nformats = []\n" + minimal_water), {"output.formats is empty"});
+}
+
+TEST(CaseValidation, Probes) {
+  const std::string p = "[[probe]]\nname = \"a\"\ntype = \"pressure\"\npoint = [1, 1]\n";
+  EXPECT_NO_THROW(parse(minimal_water + p));
+  expect_contains(parse_error(minimal_water + p + p), {"[[probe]] name \"a\" is used twice"});
+  expect_contains(parse_error(minimal_water + "[[probe]]\nname = \"a/b\"\ntype = \"gauge\"\npoint = [1, 1]\n"),
+                  {"name \"a/b\" must be non-empty, without spaces or slashes"});
+  expect_contains(parse_error(minimal_water + "[[probe]]\nname = \"f\"\ntype = \"front\"\npoint = [1, 1]\ndirection = [0, 0]\n"),
+                  {"direction must not be [0, 0]"});
+}
+
+TEST(CaseValidation, CaseNameIsAUsableFolderName) {
+  for (const char* bad : {"\"\"", "\".\"", "\"..\"", "\"a/b\"", "\"a\\\\b\"", "\"a\\nb\""})
+    expect_contains(parse_error(fmt::format("[case]\nname = {}\n", bad) + minimal_water),
+                    {"case.name", "not a usable name"});
+  EXPECT_EQ(parse("[case]\nname = \"tank 2 (fine)\"\n" + minimal_water).name, "tank 2 (fine)");
+}
+
+TEST(CaseValidation, TankAndResolution) {
+  expect_contains(parse_error("[domain]\ndx = 5\n[tank]\nwidth = 8\nheight = 8\n[[water]]\nmin = [0, 0]\nmax = [1, 1]\n"),
+                  {"smaller than two particle spacings"});
+  expect_contains(parse_error("[domain]\ndx = 0.0001\n[tank]\nwidth = 1000\nheight = 1000\n" + minimal_water),
+                  {"domain.dx = 0.0001", "lattice points"});
+}
+
+// ---------------------------------------------------------------------------------------------
+// Built-in cases and the template
+
+TEST(CaseBuiltins, DamBreakIsBuiltIn) {
+  const auto c = load_builtin_case("dam_break");
+  ASSERT_TRUE(c.has_value());
+  EXPECT_EQ(c->name, "dam_break");
+  EXPECT_FALSE(c->description.empty());
+  EXPECT_EQ(c->water.size(), 2u);
+  EXPECT_FALSE(load_builtin_case("no_such_case").has_value());
+}
+
+TEST(CaseBuiltins, EveryBuiltInCaseLoadsAndIsNamedAfterItsFile) {
+  ASSERT_FALSE(builtin_cases().empty());
+  for (const auto& b : builtin_cases()) {
+    SCOPED_TRACE(b.name);
+    std::optional<Case> c;
+    ASSERT_NO_THROW(c = load_builtin_case(b.name));
+    ASSERT_TRUE(c.has_value());
+    EXPECT_EQ(c->name, b.name);
+    EXPECT_FALSE(c->description.empty());
+  }
+}
+
+TEST(CaseTemplate, RoundTripsEveryBuiltInCase) {
+  for (const auto& b : builtin_cases()) {
+    SCOPED_TRACE(b.name);
+    const Case c = *load_builtin_case(b.name);
+    Case back;
+    ASSERT_NO_THROW(back = parse_case(case_template(c), "template of " + b.name)) << case_template(c);
+    expect_cases_equal(back, c);
+    EXPECT_EQ(case_template(back), case_template(c));
+  }
+}
+
+TEST(CaseTemplate, RoundTripsWallsProbesAndOddValues) {
+  const Case c = unusual_case();
+  ASSERT_EQ(c.walls.size(), 1u);
+  ASSERT_EQ(c.probes.size(), 3u);
+  EXPECT_NE(c.description.find('\n'), std::string::npos);
+  Case back;
+  ASSERT_NO_THROW(back = parse_case(case_template(c), "template")) << case_template(c);
+  expect_cases_equal(back, c);
+}
+
+TEST(CaseTemplate, RoundTripsAfterOverrides) {
+  Case c = *load_builtin_case("dam_break");
+  apply_overrides(c, {"domain.dx=0.123456789", "case.description=tab\there", "water[1].max=[2.5, 4.75]",
+                      "output.formats=npz", "physics.gravity=[1e-7, -9.81]"});
+  expect_cases_equal(parse_case(case_template(c), "template"), c);
+}
+
+TEST(CaseTemplate, DocumentsEveryKey) {
+  const Case c = *load_builtin_case("dam_break");
+  const std::string t = case_template(c);
+  std::vector<std::string> lines;
+  {
+    std::istringstream in(t);
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+  }
+  auto find_line = [&](const std::string& text, std::size_t from = 0) -> std::size_t {
+    for (std::size_t i = from; i < lines.size(); ++i)
+      if (lines[i] == text) return i;
+    return lines.size();
+  };
+  for (const auto& p : case_params()) {
+    SCOPED_TRACE(p.key);
+    const auto dot = p.key.find('.');
+    const std::size_t header = find_line("[" + p.key.substr(0, dot) + "]");
+    ASSERT_LT(header, lines.size()) << "no section header";
+    // The key's line, within its section.
+    std::size_t at = lines.size();
+    for (std::size_t i = header + 1; i < lines.size() && (lines[i].empty() || lines[i][0] != '['); ++i)
+      if (lines[i].rfind(p.key.substr(dot + 1) + " = ", 0) == 0) at = i;
+    ASSERT_LT(at, lines.size()) << "key not written";
+    ASSERT_GE(at, header + 3);
+    // Two comment lines above it: the description, then unit | default | allowed.
+    EXPECT_EQ(lines[at - 2], "# " + p.description);
+    const std::string& facts = lines[at - 1];
+    if (!p.unit.empty()) expect_contains(facts, {"unit: " + p.unit});
+    else EXPECT_EQ(facts.find("unit:"), std::string::npos) << facts;
+    expect_contains(facts, {"default: ", "allowed: "});
+    if (p.lower <= p.upper) {
+      const std::string range = p.upper >= 1e8 ? fmt::format(">= {}", p.lower) : fmt::format("from {} to {}", p.lower, p.upper);
+      expect_contains(facts, {range});
+    }
+    for (const auto& choice : p.choices) expect_contains(facts, {"\"" + choice + "\""});
+    // The documented default is the declared one: write it into a case of its own and read it back.
+    const auto d = facts.find("default: ");
+    const std::string default_text = facts.substr(d + 9, facts.find(" | ", d) - d - 9);
+    const Case with_default =
+        parse_case(fmt::format("[{}]\n{} = {}\n", p.key.substr(0, dot), p.key.substr(dot + 1), default_text) + minimal_water,
+                   "default of " + p.key);
+    EXPECT_EQ(value_of(with_default, p), p.default_value) << default_text;
+  }
+  // Keys of array items are documented in comments, whether or not the case has such items.
+  for (const auto& [section, params] : {std::pair{"water", &region_params()}, std::pair{"wall", &region_params()}}) {
+    const std::size_t block = find_line(fmt::format("# Keys of each [[{}]]:", section));
+    ASSERT_LT(block, lines.size()) << section;
+    for (const auto& p : *params) expect_contains(t.substr(t.find(lines[block])), {"#   " + p.key + ":"});
+  }
+  const std::size_t probe_block = find_line("# Keys of each [[probe]]:");
+  ASSERT_LT(probe_block, lines.size());
+  for (const auto& p : probe_params()) {
+    const std::size_t at = find_line("#   " + p.key + ":", probe_block);
+    ASSERT_LT(at + 2, lines.size()) << p.key;
+    EXPECT_EQ(lines[at + 1], "#     # " + p.description);
+    expect_contains(lines[at + 2], {"allowed: "});
+    if (std::holds_alternative<std::monostate>(p.default_value)) expect_contains(lines[at + 2], {"required"});
+    if (!p.unit.empty()) expect_contains(lines[at + 2], {"unit: " + p.unit});
+  }
+  expect_contains(t, {"(this case has no [[probe]] entries)", "(this case has no [[wall]] entries)"});
+  // Every section's description is there.
+  for (const auto& s : case_sections()) expect_contains(t, {"# " + s.description});
+}
+
+TEST(CaseTemplate, ConcreteLinesForOneKey) {
+  // One key's documentation spelled out in full, as `sluice init` writes it.
+  const std::string t = case_template(*load_builtin_case("dam_break"));
+  expect_contains(t, {"[domain]\n# Particle spacing (dx); particle mass is rho0 * dx^2.\n"
+                      "# unit: m | default: 0.2 | allowed: a number from 0.0001 to 100 (m)\ndx = 0.2\n"});
+  expect_contains(t, {"[[water]]\nshape = \"box\"\nmin = [0.0, 2.0]\nmax = [3.0, 5.0]\n"});
+}
+
+// ---------------------------------------------------------------------------------------------
+// Suggestions
+
+TEST(ClosestMatch, FindsLikelyTypos) {
+  const std::vector<std::string> sections = {"case", "domain", "tank", "fluid", "physics", "time", "output", "water"};
+  EXPECT_EQ(closest_match("domian", sections), "domain");
+  EXPECT_EQ(closest_match("watr", sections), "water");
+  EXPECT_EQ(closest_match("ouput", sections), "output");
+  EXPECT_FALSE(closest_match("zzzzzzzz", sections).has_value());
+  EXPECT_FALSE(closest_match("", std::vector<std::string>{}).has_value());
+  const std::vector<std::string> keys = {"domain.dx", "domain.h_over_dx", "time.end"};
+  EXPECT_EQ(closest_match("domain.ddx", keys), "domain.dx");
+  EXPECT_EQ(closest_match("ddx", keys), "domain.dx");  // the last part of a key counts
+  EXPECT_EQ(closest_match("h_over_d", keys), "domain.h_over_dx");
+}

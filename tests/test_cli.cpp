@@ -1,0 +1,436 @@
+// The sluice command line, run as a real subprocess: help and version, `cases`, `init` and its
+// round trip through `run`, built-in case names, and every kind of bad input: each must print
+// "sluice: error: ..." naming what is wrong, exit with status 2 and create no output directory.
+#include <gtest/gtest.h>
+
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fmt/format.h>
+
+#include <atomic>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int status = -1;  // exit status; -1 if the process did not exit normally
+  std::string out, err;
+};
+
+std::string read_file(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Each test gets an empty temporary directory as the working directory of the binary, so the
+// default output folder out/<name> lands there and "no output directory" can be checked exactly.
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    static std::atomic<int> counter{0};
+    dir_ = fs::temp_directory_path() /
+           fmt::format("sluice_cli_{}_{}_{}_{}", ::testing::UnitTest::GetInstance()->current_test_info()->name(),
+                       ::getpid(), counter++, std::chrono::steady_clock::now().time_since_epoch().count());
+    fs::create_directories(dir_ / "work");
+    work_ = dir_ / "work";
+  }
+  void TearDown() override {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+
+  // Runs the sluice binary with `args` in the work directory.
+  Result sluice(const std::vector<std::string>& args) {
+    const fs::path out_file = dir_ / "stdout.txt", err_file = dir_ / "stderr.txt";
+    std::vector<std::string> argv_strings = {SLUICE_BIN};
+    argv_strings.insert(argv_strings.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (auto& a : argv_strings) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    const pid_t pid = ::fork();
+    if (pid < 0) {
+      ADD_FAILURE() << "fork failed";
+      return {};
+    }
+    if (pid == 0) {
+      const int out = ::open(out_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      const int err = ::open(err_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      if (out < 0 || err < 0 || ::dup2(out, 1) < 0 || ::dup2(err, 2) < 0 || ::chdir(work_.c_str()) != 0) ::_exit(127);
+      ::execv(argv[0], argv.data());
+      ::_exit(127);
+    }
+    int wstatus = 0;
+    while (::waitpid(pid, &wstatus, 0) < 0) {
+    }
+    Result r;
+    r.status = WIFEXITED(wstatus) ? WEXITSTATUS(wstatus) : -1;
+    r.out = read_file(out_file);
+    r.err = read_file(err_file);
+    return r;
+  }
+
+  fs::path write(const std::string& name, const std::string& text) {
+    std::ofstream(work_ / name, std::ios::binary) << text;
+    return work_ / name;
+  }
+
+  // The work directory holds nothing but `expected` (file names).
+  void expect_only(std::initializer_list<std::string> expected) {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(work_)) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    std::vector<std::string> want(expected);
+    std::sort(want.begin(), want.end());
+    EXPECT_EQ(names, want) << "the work directory should hold only the given files (no output directory)";
+  }
+
+  fs::path dir_, work_;
+};
+
+// Keeps runs tiny: a coarse lattice and a few steps.
+const std::vector<std::string> tiny = {"--set", "time.end=0.02", "--set", "domain.dx=0.4", "-q"};
+
+std::vector<std::string> with_tiny(std::vector<std::string> args) {
+  args.insert(args.end(), tiny.begin(), tiny.end());
+  return args;
+}
+
+void expect_contains(const std::string& text, std::initializer_list<std::string> parts) {
+  for (const auto& part : parts)
+    EXPECT_NE(text.find(part), std::string::npos) << "text:  " << text << "\nlacks: " << part;
+}
+
+// A bad-input failure: status 2, nothing on stdout, one "sluice: error:" message on stderr that
+// contains `parts`.
+void expect_bad_input(const Result& r, std::initializer_list<std::string> parts) {
+  EXPECT_EQ(r.status, 2) << "stderr: " << r.err;
+  EXPECT_EQ(r.out, "");
+  EXPECT_EQ(r.err.rfind("sluice: error: ", 0), 0u) << r.err;
+  expect_contains(r.err, parts);
+}
+
+const std::string minimal_water = "[[water]]\nmin = [0.0, 0.0]\nmax = [2.0, 1.0]\n";
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Help and version
+
+TEST_F(Cli, Help) {
+  for (const char* flag : {"--help", "-h"}) {
+    const Result r = sluice({flag});
+    EXPECT_EQ(r.status, 0) << r.err;
+    expect_contains(r.out, {"Usage:", "run", "cases", "init", "--version", "sluice <command> --help"});
+    EXPECT_EQ(r.err, "");
+  }
+}
+
+TEST_F(Cli, Version) {
+  const Result r = sluice({"--version"});
+  EXPECT_EQ(r.status, 0);
+  EXPECT_TRUE(std::regex_match(r.out, std::regex(R"(sluice \d+\.\d+\.\d+\n)"))) << r.out;
+}
+
+TEST_F(Cli, RunHelp) {
+  const Result r = sluice({"run", "--help"});
+  EXPECT_EQ(r.status, 0) << r.err;
+  expect_contains(r.out, {"case", "-o,--output", "--set", "domain.dx=0.1", "--threads", "--restart", "-q,--quiet"});
+  expect_only({});
+}
+
+TEST_F(Cli, CasesHelp) {
+  const Result r = sluice({"cases", "--help"});
+  EXPECT_EQ(r.status, 0) << r.err;
+  expect_contains(r.out, {"List the built-in cases"});
+}
+
+TEST_F(Cli, InitHelp) {
+  const Result r = sluice({"init", "--help"});
+  EXPECT_EQ(r.status, 0) << r.err;
+  expect_contains(r.out, {"file", "--from", "--force", "commented case file"});
+  expect_only({});  // --help writes no case.toml
+}
+
+// ---------------------------------------------------------------------------------------------
+// Command-line mistakes
+
+TEST_F(Cli, NoCommand) { expect_bad_input(sluice({}), {"no command given", "run, cases, init", "sluice --help"}); }
+
+TEST_F(Cli, UnknownCommand) {
+  expect_bad_input(sluice({"rn"}), {"unknown command 'rn'", "did you mean 'run'?"});
+  expect_bad_input(sluice({"simulate"}), {"unknown command 'simulate'", "expected one of: run, cases, init"});
+}
+
+TEST_F(Cli, UnknownOption) {
+  expect_bad_input(sluice({"run", "--bogus"}), {"--bogus", "sluice run --help"});
+  expect_bad_input(sluice({"--bogus"}), {"unknown option '--bogus'", "--help"});
+  expect_bad_input(sluice({"cases", "extra"}), {"extra"});
+  expect_only({});
+}
+
+TEST_F(Cli, ThreadsMustBePositive) {
+  expect_bad_input(sluice(with_tiny({"run", "--threads", "0", "-o", "o"})), {"--threads", "0", "1"});
+  expect_bad_input(sluice(with_tiny({"run", "--threads", "-3", "-o", "o"})), {"--threads"});
+  expect_bad_input(sluice(with_tiny({"run", "--threads", "many", "-o", "o"})), {"--threads", "many"});
+  expect_only({});
+}
+
+TEST_F(Cli, RestartTakesNoCase) {
+  expect_bad_input(sluice({"run", "dam_break", "--restart", "x.bin", "-o", "o"}), {"--restart"});
+  expect_only({});
+}
+
+// ---------------------------------------------------------------------------------------------
+// Invalid case files: status 2, file:line:column, key, value, expectation, and no output directory
+
+TEST_F(Cli, UnknownKeyInCaseFile) {
+  write("bad.toml", "[domain]\nddx = 0.1\n" + minimal_water);
+  const Result r = sluice(with_tiny({"run", "bad.toml", "-o", "o"}));
+  expect_bad_input(r, {"bad.toml:2:7", "unknown key 'domain.ddx'", "did you mean 'domain.dx'?"});
+  expect_only({"bad.toml"});
+}
+
+TEST_F(Cli, UnknownSectionInCaseFile) {
+  write("bad.toml", "[domian]\ndx = 0.1\n" + minimal_water);
+  expect_bad_input(sluice(with_tiny({"run", "bad.toml"})), {"bad.toml:1:1", "unknown section 'domian'", "'domain'"});
+  expect_only({"bad.toml"});
+}
+
+TEST_F(Cli, BadValueInCaseFile) {
+  write("bad.toml", "[case]\nname = \"bad\"\n[domain]\ndx = -0.5\n" + minimal_water);
+  expect_bad_input(sluice({"run", "bad.toml", "-q"}),
+                   {"bad.toml:4:6", "domain.dx = -0.5", "out of range", "expected a number from 0.0001 to 100 (m)"});
+  expect_only({"bad.toml"});  // neither out/ nor out/bad
+}
+
+TEST_F(Cli, UnknownValueInCaseFile) {
+  write("bad.toml", "[time]\nintegrator = \"rk4\"\n" + minimal_water);
+  expect_bad_input(sluice(with_tiny({"run", "bad.toml", "-o", "o"})),
+                   {"bad.toml:2:14", "time.integrator", "rk4", "one of \"predictor_corrector\", \"euler\""});
+  expect_only({"bad.toml"});
+}
+
+TEST_F(Cli, BadSyntaxInCaseFile) {
+  write("bad.toml", "[domain]\ndx = = 0.1\n");
+  expect_bad_input(sluice(with_tiny({"run", "bad.toml", "-o", "o"})), {"bad.toml:2:", "not valid TOML"});
+  expect_only({"bad.toml"});
+}
+
+TEST_F(Cli, MissingRequiredKeyInCaseFile) {
+  write("bad.toml", "[[water]]\nmin = [0.0, 0.0]\n");
+  expect_bad_input(sluice(with_tiny({"run", "bad.toml", "-o", "o"})), {"bad.toml:1:1", "[[water]] number 1 has no 'max'"});
+  expect_only({"bad.toml"});
+}
+
+TEST_F(Cli, InconsistentCaseFile) {
+  write("bad.toml", "[tank]\nwidth = 1.0\n" + minimal_water);
+  expect_bad_input(sluice(with_tiny({"run", "bad.toml", "-o", "o"})), {"bad.toml", "reaches outside the tank"});
+  write("bad2.toml", "[case]\nname = \"../escape\"\n" + minimal_water);
+  expect_bad_input(sluice({"run", "bad2.toml", "-q"}), {"bad2.toml", "case.name", "not a usable name"});
+  expect_only({"bad.toml", "bad2.toml"});
+  EXPECT_FALSE(fs::exists(dir_ / "escape"));
+}
+
+TEST_F(Cli, MissingCaseFile) {
+  expect_bad_input(sluice(with_tiny({"run", "nope.toml", "-o", "o"})), {"nope.toml", "no such case file", "sluice cases"});
+  expect_only({});
+}
+
+TEST_F(Cli, CaseIsADirectory) {
+  fs::create_directory(work_ / "adir");
+  expect_bad_input(sluice(with_tiny({"run", "adir", "-o", "o"})), {"adir", "is a directory"});
+  expect_only({"adir"});
+}
+
+// ---------------------------------------------------------------------------------------------
+// --set mistakes
+
+TEST_F(Cli, SetUnknownKey) {
+  expect_bad_input(sluice({"run", "--set", "domain.ddx=0.1", "-o", "o", "-q"}),
+                   {"--set domain.ddx=0.1: unknown key 'domain.ddx'; did you mean 'domain.dx'?"});
+  expect_bad_input(sluice({"run", "--set", "water[0].mx=[1, 1]", "-o", "o", "-q"}),
+                   {"unknown key 'mx' in [[water]]", "did you mean 'water[0].max'?"});
+  expect_only({});
+}
+
+TEST_F(Cli, SetBadValue) {
+  expect_bad_input(sluice({"run", "--set", "domain.dx=0", "-o", "o", "-q"}),
+                   {"--set domain.dx=0", "domain.dx = 0", "out of range", "a number from 0.0001 to 100 (m)"});
+  expect_bad_input(sluice({"run", "--set", "time.integrator=eulr", "-o", "o", "-q"}),
+                   {"time.integrator", "eulr", "did you mean \"euler\"?"});
+  expect_bad_input(sluice({"run", "--set", "tank.lid=maybe", "-o", "o", "-q"}), {"tank.lid", "maybe", "true or false"});
+  expect_only({});
+}
+
+TEST_F(Cli, SetMalformed) {
+  expect_bad_input(sluice({"run", "--set", "domain.dx", "-o", "o", "-q"}), {"--set domain.dx: expected key=value"});
+  expect_bad_input(sluice({"run", "--set", "domain.dx=", "-o", "o", "-q"}), {"no value after '='"});
+  expect_bad_input(sluice({"run", "--set"}), {"--set", "missing"});
+  expect_only({});
+}
+
+TEST_F(Cli, SetIndexOutOfRange) {
+  expect_bad_input(sluice({"run", "--set", "water[2].max=[1.0, 1.0]", "-o", "o", "-q"}),
+                   {"the case has 2 [[water]] entries (numbered from 0); there is no water[2]"});
+  expect_only({});
+}
+
+TEST_F(Cli, SetMakesCaseInconsistent) {
+  expect_bad_input(sluice({"run", "--set", "tank.width=2", "-q"}), {"--set tank.width=2", "reaches outside the tank"});
+  expect_bad_input(sluice({"run", "--set", "case.name=..", "-q"}), {"case.name", "not a usable name"});
+  expect_only({});
+}
+
+// ---------------------------------------------------------------------------------------------
+// cases, run with a built-in name or none, init
+
+TEST_F(Cli, CasesListsEachBuiltInCaseOnOneLine) {
+  const Result r = sluice({"cases"});
+  EXPECT_EQ(r.status, 0) << r.err;
+  std::vector<std::string> expected;
+  for (const auto& e : fs::directory_iterator(fs::path(SLUICE_SOURCE_DIR) / "cases"))
+    if (e.path().extension() == ".toml") expected.push_back(e.path().stem().string());
+  std::sort(expected.begin(), expected.end());
+  ASSERT_FALSE(expected.empty());
+  std::vector<std::string> listed;
+  std::istringstream in(r.out);
+  for (std::string line; std::getline(in, line);) {
+    const auto space = line.find(' ');
+    ASSERT_NE(space, std::string::npos) << "no description: " << line;
+    EXPECT_NE(line.find_first_not_of(' ', space), std::string::npos) << "no description: " << line;
+    listed.push_back(line.substr(0, space));
+  }
+  EXPECT_EQ(listed, expected);
+  expect_contains(r.out, {"dam_break "});
+}
+
+TEST_F(Cli, RunBuiltInCaseByName) {
+  const Result r = sluice(with_tiny({"run", "dam_break"}));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(fs::is_regular_file(work_ / "out" / "dam_break" / "summary.txt"));
+  expect_contains(r.out, {"dam_break"});
+}
+
+TEST_F(Cli, BuiltInNameNotHiddenByADirectory) {
+  // The output of `sluice run dam_break -o dam_break` must not stop the next `sluice run dam_break`.
+  fs::create_directory(work_ / "dam_break");
+  const Result r = sluice(with_tiny({"run", "dam_break", "-o", "dam_break"}));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(fs::is_regular_file(work_ / "dam_break" / "summary.txt"));
+}
+
+TEST_F(Cli, RunWithoutCaseRunsTheDefault) {
+  const Result r = sluice(with_tiny({"run", "--threads", "1", "-o", "default_out"}));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(fs::is_regular_file(work_ / "default_out" / "summary.txt"));
+  expect_contains(read_file(work_ / "default_out" / "summary.txt"), {"dam_break"});
+  expect_only({"default_out"});
+}
+
+TEST_F(Cli, SetOverridesReachTheRun) {
+  // Several --set forms at once, including item keys and bare words; the summary shows they took.
+  const Result r = sluice(with_tiny({"run", "-o", "o", "--set", "case.name=renamed", "--set", "tank.width=4", "--set",
+                           "water.0.max=[4.0, 2.0]", "--set", "water[1].max=[1.0, 3.0]", "--set",
+                           "time.integrator=euler", "--set", "time.cfl=0.1", "--set", "output.formats=npz"}));
+  ASSERT_EQ(r.status, 0) << r.err;
+  expect_contains(r.out, {"case 'renamed'"});
+  EXPECT_TRUE(fs::is_regular_file(work_ / "o" / "summary.txt"));
+  EXPECT_FALSE(fs::exists(work_ / "o" / "renamed.pvd"));  // only npz frames asked for
+}
+
+TEST_F(Cli, InitThenRunUnchanged) {
+  const Result init = sluice({"init", "x.toml"});
+  ASSERT_EQ(init.status, 0) << init.err;
+  expect_contains(init.out, {"x.toml", "sluice run x.toml"});
+  const std::string text = read_file(work_ / "x.toml");
+  expect_contains(text, {"# ", "[case]", "[domain]", "dx = ", "unit: m", "default: ", "allowed: ", "[[water]]"});
+  // The template, exactly as written (only the end time shortened on the command line).
+  const Result run = sluice({"run", "x.toml", "--set", "time.end=0.02", "-o", "DIR", "-q"});
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_TRUE(fs::is_regular_file(work_ / "DIR" / "summary.txt"));
+  EXPECT_EQ(read_file(work_ / "x.toml"), text);
+}
+
+TEST_F(Cli, InitDefaultFileName) {
+  const Result r = sluice({"init"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(fs::is_regular_file(work_ / "case.toml"));
+}
+
+TEST_F(Cli, InitRefusesToOverwrite) {
+  write("x.toml", "# mine\n");
+  const Result r = sluice({"init", "x.toml"});
+  expect_bad_input(r, {"x.toml", "already exists", "--force"});
+  EXPECT_EQ(read_file(work_ / "x.toml"), "# mine\n");
+  const Result forced = sluice({"init", "x.toml", "--force"});
+  ASSERT_EQ(forced.status, 0) << forced.err;
+  expect_contains(read_file(work_ / "x.toml"), {"[domain]"});
+}
+
+TEST_F(Cli, InitIntoADirectory) {
+  fs::create_directory(work_ / "adir");
+  for (const bool force : {false, true}) {
+    expect_bad_input(sluice(force ? std::vector<std::string>{"init", "adir", "--force"} : std::vector<std::string>{"init", "adir"}),
+                     {"adir: is a directory", "adir/case.toml"});
+  }
+  expect_only({"adir"});
+  EXPECT_TRUE(fs::is_empty(work_ / "adir"));
+}
+
+TEST_F(Cli, InitFromUnknownCase) {
+  expect_bad_input(sluice({"init", "x.toml", "--from", "nope"}), {"--from nope", "no built-in case", "sluice cases"});
+  expect_only({});
+}
+
+TEST_F(Cli, InitFromEveryBuiltInCaseIsAccepted) {
+  // `sluice run` accepts each template unchanged: run to t = 0 (set-up and the first frame only), since
+  // a coarse --set domain.dx might not fit a small built-in tank.
+  for (const auto& e : fs::directory_iterator(fs::path(SLUICE_SOURCE_DIR) / "cases")) {
+    if (e.path().extension() != ".toml") continue;
+    const std::string name = e.path().stem().string();
+    SCOPED_TRACE(name);
+    const std::string file = name + "_template.toml";
+    ASSERT_EQ(sluice({"init", file, "--from", name}).status, 0);
+    const Result run = sluice({"run", file, "-o", "o_" + name, "--set", "time.end=0", "-q"});
+    EXPECT_EQ(run.status, 0) << run.err;
+  }
+}
+
+TEST_F(Cli, ReadmeErrorExamplesAreExact) {
+  // The README's "Case files" section shows `$ sluice run --set ...` commands followed by their
+  // error: each must be what the binary prints.
+  const std::string readme = read_file(fs::path(SLUICE_SOURCE_DIR) / "README.md");
+  std::istringstream in(readme);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  int checked = 0;
+  for (std::size_t i = 0; i + 1 < lines.size(); ++i) {
+    if (lines[i].rfind("$ sluice run --set ", 0) != 0) continue;
+    if (lines[i + 1].rfind("sluice: error: ", 0) != 0) continue;
+    SCOPED_TRACE(lines[i]);
+    std::istringstream words(lines[i].substr(2));
+    std::vector<std::string> args;
+    for (std::string w; words >> w;) args.push_back(w);
+    args.erase(args.begin());  // "sluice"
+    args.push_back("-q");
+    const Result r = sluice(args);
+    EXPECT_EQ(r.status, 2);
+    EXPECT_EQ(r.err, lines[i + 1] + "\n");
+    ++checked;
+  }
+  EXPECT_GE(checked, 2) << "the README's examples of --set errors were not found";
+  expect_only({});
+}
