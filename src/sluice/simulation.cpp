@@ -136,3 +136,75 @@ Diagnostics Simulation::diagnostics() const {
 }
 
 }  // namespace sluice
+
+namespace sluice {
+
+Health Simulation::check_health(std::size_t max_reported) const {
+  const Particles<2>& p = particles_;
+  const double rho0 = settings_.eos.rest_density;
+  const double reach = wall_layers(case_) * case_.dx + 4.0 * settings_.h;
+  const double top = case_.tank_height + (case_.tank_lid ? reach : std::max(case_.tank_height, reach));
+  auto problem = [&](std::size_t i) -> const char* {
+    const double x = p.position[0][i], y = p.position[1][i], rho = p.density[i];
+    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(p.velocity[0][i]) || !std::isfinite(p.velocity[1][i]) ||
+        !std::isfinite(rho))
+      return "not finite";
+    if (x < -reach || x > case_.tank_width + reach || y < -reach || y > top) return "far outside the tank";
+    if (!(rho > 0.5 * rho0 && rho < 2.0 * rho0)) return "density outside (0.5, 2) rho0";
+    return nullptr;
+  };
+  const long n = static_cast<long>(p.size());
+  long bad = 0;
+#pragma omp parallel for num_threads(threads_) schedule(static) reduction(+ : bad)
+  for (long i = 0; i < n; ++i) bad += problem(static_cast<std::size_t>(i)) != nullptr;
+  Health health;
+  health.offending = static_cast<std::size_t>(bad);
+  if (bad == 0) return health;
+  std::vector<std::size_t> rows;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (problem(i) != nullptr) rows.push_back(i);
+  std::sort(rows.begin(), rows.end(), [&](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
+  const double support2 = 4.0 * settings_.h * settings_.h;
+  for (std::size_t k = 0; k < rows.size() && k < max_reported; ++k) {
+    const std::size_t i = rows[k];
+    Offender o;
+    o.id = p.id[i];
+    o.position = {p.position[0][i], p.position[1][i]};
+    o.velocity = {p.velocity[0][i], p.velocity[1][i]};
+    o.density = p.density[i];
+    o.reason = problem(i);
+    for (std::size_t j = 0; j < p.size(); ++j) {
+      const double dx = p.position[0][i] - p.position[0][j], dy = p.position[1][i] - p.position[1][j];
+      if (j != i && dx * dx + dy * dy < support2) ++o.neighbours;
+    }
+    health.first.push_back(o);
+  }
+  return health;
+}
+
+void Simulation::save_state() {
+  Particles<2>& s = saved_particles_;
+  const Particles<2>& p = particles_;
+  s.position = p.position;
+  s.velocity = p.velocity;
+  s.density = p.density;
+  s.kind = p.kind;
+  s.id = p.id;
+  s.needs_density_repair = p.needs_density_repair;
+  saved_clock_ = clock_;
+}
+
+void Simulation::restore_saved_state() {
+  Particles<2>& p = particles_;
+  const Particles<2>& s = saved_particles_;
+  if (s.density.size() != p.size()) return;  // nothing saved
+  p.position = s.position;
+  p.velocity = s.velocity;
+  p.density = s.density;
+  p.kind = s.kind;
+  p.id = s.id;
+  p.needs_density_repair = s.needs_density_repair;
+  clock_ = saved_clock_;
+}
+
+}  // namespace sluice

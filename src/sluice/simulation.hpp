@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <string>
 #include <variant>
 #include <vector>
 
@@ -40,6 +41,22 @@ struct Diagnostics {
   bool all_finite = true;
 };
 
+// A particle that makes a run unusable: non-finite, far outside the tank, or at an absurd density.
+struct Offender {
+  std::uint32_t id = 0;
+  Vec2 position{};
+  Vec2 velocity{};
+  double density = 0.0;
+  int neighbours = 0;  // particles within the kernel support
+  std::string reason;
+};
+
+struct Health {
+  std::size_t offending = 0;       // how many particles are bad
+  std::vector<Offender> first;     // the first few, in id order
+  [[nodiscard]] bool ok() const { return offending == 0; }
+};
+
 class Simulation {
  public:
   static constexpr int dim = 2;
@@ -65,6 +82,14 @@ class Simulation {
   [[nodiscard]] int threads() const { return threads_; }
   [[nodiscard]] Diagnostics diagnostics() const;
 
+  // The instability guard: every particle finite, within the tank's reach (its walls plus a margin
+  // of the tank size above an open tank), and 0.5 rho0 < rho < 2 rho0.
+  [[nodiscard]] Health check_health(std::size_t max_reported = 5) const;
+
+  // A copy of the state (particles and clock) to return to if a step goes bad.
+  void save_state();
+  void restore_saved_state();
+
   using KernelVariant = std::variant<CubicSpline<2>, WendlandC2<2>>;
 
  private:
@@ -83,6 +108,8 @@ class Simulation {
   ParticleTerms terms_;
   std::vector<double> scratch_;
   Clock clock_;
+  Particles<2> saved_particles_;
+  Clock saved_clock_;
   bool predictor_corrector_ = true;
   int threads_ = 1;
   std::size_t removed_near_coincident_ = 0;

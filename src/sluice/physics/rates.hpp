@@ -36,11 +36,13 @@ struct ParticleTerms {
   std::vector<double> fluid_mask;   // 1 for fluid, 0 for wall
 
   template <int Dim>
-  void compute(const Particles<Dim>& p, const TaitEos& eos) {
-    const std::size_t n = p.size();
-    for (auto* v : {&pressure, &p_over_rho2, &inv_rho2, &inv_rho, &hydro_k, &fluid_mask}) v->resize(n);
+  void compute(const Particles<Dim>& p, const TaitEos& eos, int threads) {
+    const long n = static_cast<long>(p.size());
+    for (auto* v : {&pressure, &p_over_rho2, &inv_rho2, &inv_rho, &hydro_k, &fluid_mask})
+      v->resize(static_cast<std::size_t>(n));
     const double c0_2 = eos.sound_speed * eos.sound_speed;
-    for (std::size_t i = 0; i < n; ++i) {
+#pragma omp parallel for num_threads(threads) schedule(static)
+    for (long i = 0; i < n; ++i) {
       const double rho = p.density[i];
       const double pressure_i = eos.pressure(rho);
       pressure[i] = pressure_i;
@@ -50,7 +52,7 @@ struct ParticleTerms {
       // c^2 = dP/drho = gamma (P + B) / rho
       const double c2 = eos.gamma * (pressure_i + eos.stiffness()) * inv_rho[i];
       hydro_k[i] = rho / std::max(c2, 1e-12 * c0_2);
-      fluid_mask[i] = p.is_fluid(i) ? 1.0 : 0.0;
+      fluid_mask[i] = p.kind[i] == Kind::fluid ? 1.0 : 0.0;
     }
   }
 };
