@@ -66,6 +66,7 @@ std::string show(const ParamValue& v) {
         else if constexpr (std::is_same_v<T, std::string>) return '"' + x + '"';
         else if constexpr (std::is_same_v<T, Vec2>) return fmt::format("[{}, {}]", x[0], x[1]);
         else if constexpr (std::is_same_v<T, std::vector<std::string>>) return fmt::format("{} strings", x.size());
+        else if constexpr (std::is_same_v<T, std::vector<Vec2>>) return fmt::format("{} points", x.size());
         else return fmt::format("{}", x);
       },
       v);
@@ -205,7 +206,8 @@ TEST(CaseDefaults, EveryKeyTakesItsDeclaredDefault) {
 TEST(CaseDefaults, ItemKeysTakeTheirDeclaredDefaults) {
   const Case c = parse(minimal_water + "[[probe]]\nname = \"p\"\ntype = \"pressure\"\npoint = [1.0, 1.0]\n");
   for (const auto& p : region_params()) {
-    if (!std::holds_alternative<std::monostate>(p.default_value)) {
+    // Keys that the item's shape uses are required (min, max of a box), not defaulted.
+    if (!std::holds_alternative<std::monostate>(p.default_value) && !(p.applies && p.applies(c.water[0]))) {
       EXPECT_EQ(value_of(c.water[0], p), p.default_value) << p.key;
     }
   }
@@ -503,6 +505,10 @@ TEST(CaseOverrides, EveryDeclaredKeyCanBeSetToItsDefault) {
             std::string s;
             for (const auto& i : x) s += (s.empty() ? "\"" : ", \"") + i + "\"";
             return "[" + s + "]";
+          } else if constexpr (std::is_same_v<T, std::vector<Vec2>>) {
+            std::string s;
+            for (const auto& q : x) s += fmt::format("{}[{}, {}]", s.empty() ? "" : ", ", q[0], q[1]);
+            return "[" + s + "]";
           } else if constexpr (std::is_same_v<T, std::monostate>) return "";
           else return fmt::format("{}", x);
         },
@@ -796,4 +802,23 @@ TEST(ClosestMatch, FindsLikelyTypos) {
   EXPECT_EQ(closest_match("domain.ddx", keys), "domain.dx");
   EXPECT_EQ(closest_match("ddx", keys), "domain.dx");  // the last part of a key counts
   EXPECT_EQ(closest_match("h_over_d", keys), "domain.h_over_dx");
+}
+
+TEST(CaseRegions, PolygonsParseAndShapeKeysAreCheckedBothWays) {
+  const Case c = parse(minimal_water + "[[wall]]\nshape = \"polygon\"\npoints = [[12, 0], [20, 0], [20, 4]]\n");
+  ASSERT_EQ(c.walls.size(), 1u);
+  EXPECT_EQ(c.walls[0].shape, "polygon");
+  ASSERT_EQ(c.walls[0].points.size(), 3u);
+  EXPECT_EQ(c.walls[0].points[2], (Vec2{20.0, 4.0}));
+  expect_contains(parse_error(minimal_water + "[[wall]]\nshape = \"polygon\"\n"), {"has no 'points'"});
+  expect_contains(parse_error(minimal_water + "[[wall]]\nshape = \"polygon\"\npoints = [[0, 0], [1, 1]]\nmin = [0, 0]\n"),
+                  {"gives 'min', which a polygon does not use"});
+  expect_contains(parse_error(minimal_water + "[[wall]]\nshape = \"polygon\"\npoints = [[0, 0], [1, 1]]\n"),
+                  {"at least 3 points"});
+  expect_contains(parse_error(minimal_water + "[[wall]]\nshape = \"polygon\"\npoints = [[0, 0], [1, 1], [2, 2]]\n"),
+                  {"enclose no area"});
+  expect_contains(parse_error(minimal_water + "[[wall]]\nshape = \"polygon\"\npoints = [[0, 0], [1], [2, 2]]\n"),
+                  {"wall[0].points", "an array of points"});
+  expect_contains(parse_error(minimal_water + "[[wall]]\nmin = [0, 0]\nmax = [1, 1]\npoints = [[0, 0], [1, 0], [1, 1]]\n"),
+                  {"gives 'points', which a box does not use"});
 }

@@ -47,7 +47,7 @@ TEST(Setup, DefaultTankHasThreeWallLayersAtDxSpacing) {
 
 TEST(Setup, WaterOverlappingAnObstacleLeavesNoFluidOnAWallPoint) {
   Case c = *load_builtin_case("dam_break");
-  c.walls.push_back(Region{"box", {5.0, 0.0}, {6.0, 1.0}});
+  c.walls.push_back(Region{"box", {5.0, 0.0}, {6.0, 1.0}, {}});
   const sluice::Setup s = build_setup(c);
   double closest = 1e9;
   for (std::size_t i = 0; i < s.particles.size(); ++i) {

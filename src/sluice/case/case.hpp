@@ -9,11 +9,12 @@
 
 namespace sluice {
 
-// A water region or a solid wall: a box (min, max) or, later, a polygon.
+// A water region or a solid wall: a box (min, max) or a polygon (its points, in either order).
 struct Region {
-  std::string shape;  // "box"
+  std::string shape;         // "box" | "polygon"
   Vec2 min{};
   Vec2 max{};
+  std::vector<Vec2> points;  // polygon vertices, implicitly closed
 };
 
 // A probe sampled during the run (see io/probes.hpp).

@@ -106,12 +106,24 @@ const std::vector<Param<Case>>& case_params() {
 }
 
 const std::vector<Param<Region>>& region_params() {
-  static const std::vector<Param<Region>> params = {
-      declare("shape", &Region::shape, "", std::string("box"), unbounded_lower, unbounded_upper, "Shape of the region.",
-              {"box"}),
-      declare("min", &Region::min, "m", std::monostate{}, unbounded_lower, unbounded_upper, "Lower-left corner [x, y] of the box."),
-      declare("max", &Region::max, "m", std::monostate{}, unbounded_lower, unbounded_upper, "Upper-right corner [x, y] of the box."),
-  };
+  static const std::vector<Param<Region>> params = [] {
+    auto is_box = +[](const Region& r) { return r.shape == "box"; };
+    auto is_polygon = +[](const Region& r) { return r.shape == "polygon"; };
+    std::vector<Param<Region>> v = {
+        declare("shape", &Region::shape, "", std::string("box"), unbounded_lower, unbounded_upper,
+                "Shape of the region: a box (min, max) or a polygon (points).", {"box", "polygon"}),
+        declare("min", &Region::min, "m", Vec2{0.0, 0.0}, unbounded_lower, unbounded_upper,
+                "Box: lower-left corner [x, y]."),
+        declare("max", &Region::max, "m", Vec2{0.0, 0.0}, unbounded_lower, unbounded_upper,
+                "Box: upper-right corner [x, y]."),
+        declare("points", &Region::points, "m", std::vector<Vec2>{}, unbounded_lower, unbounded_upper,
+                "Polygon: its corners [[x, y], ...] in order around it (at least 3; closed automatically)."),
+    };
+    v[1].applies = is_box;
+    v[2].applies = is_box;
+    v[3].applies = is_polygon;
+    return v;
+  }();
   return params;
 }
 
@@ -193,7 +205,11 @@ std::string format_value(const ParamValue& v) {
         else if constexpr (std::is_same_v<T, bool>) return x ? "true" : "false";
         else if constexpr (std::is_same_v<T, std::string>) return quote(x);
         else if constexpr (std::is_same_v<T, Vec2>) return fmt::format("[{}, {}]", format_number(x[0]), format_number(x[1]));
-        else {
+        else if constexpr (std::is_same_v<T, std::vector<Vec2>>) {
+          std::vector<std::string> pairs;
+          for (const Vec2& q : x) pairs.push_back(fmt::format("[{}, {}]", format_number(q[0]), format_number(q[1])));
+          return fmt::format("[{}]", fmt::join(pairs, ", "));
+        } else {
           std::vector<std::string> quoted;
           for (const auto& s : x) quoted.push_back(quote(s));
           return fmt::format("[{}]", fmt::join(quoted, ", "));
@@ -229,6 +245,8 @@ std::string expectation(const Param<Owner>& p) {
           return fmt::format("one of \"{}\"", fmt::join(p.choices, "\", \""));
         } else if constexpr (std::is_same_v<T, Vec2>) {
           return "an array of two numbers [x, y]" + unit;
+        } else if constexpr (std::is_same_v<T, std::vector<Vec2>>) {
+          return "an array of points [[x, y], ...]" + unit;
         } else {
           return fmt::format("an array of strings, each one of \"{}\"", fmt::join(p.choices, "\", \""));
         }
@@ -309,6 +327,22 @@ void assign(Owner& o, const Param<Owner>& p, const toml::node& n, const std::str
             v[d] = *x;
           }
           o.*member = v;
+        } else if constexpr (std::is_same_v<T, std::vector<Vec2>>) {
+          const toml::array* a = n.as_array();
+          if (a == nullptr) fail_value(at, key, n, "wrong type", expected);
+          std::vector<Vec2> v;
+          for (const auto& item : *a) {
+            const toml::array* q = item.as_array();
+            if (q == nullptr || q->size() != 2) fail_value(at, key, n, "wrong type", expected);
+            Vec2 point{};
+            for (int d = 0; d < 2; ++d) {
+              auto x = as_number(*q->get(static_cast<std::size_t>(d)));
+              if (!x || !std::isfinite(*x)) fail_value(at, key, n, "wrong type", expected);
+              point[d] = *x;
+            }
+            v.push_back(point);
+          }
+          o.*member = std::move(v);
         } else {
           const toml::array* a = n.as_array();
           if (a == nullptr) fail_value(at, key, n, "wrong type", expected);
@@ -353,6 +387,9 @@ std::vector<std::string> all_keys() {
   throw CaseError(fmt::format("{}: unknown key '{}'; see `sluice init` for every key", at, key));
 }
 
+std::string describe_shape(const Region& r) { return r.shape; }
+std::string describe_shape(const Probe& p) { return p.type + " probe"; }
+
 template <class Owner>
 Owner parse_item(const toml::table& t, const std::vector<Param<Owner>>& params, const std::string& section,
                  std::size_t index, const std::string& source) {
@@ -374,10 +411,17 @@ Owner parse_item(const toml::table& t, const std::vector<Param<Owner>>& params, 
     assign(item, *p, node, where(source, node), full);
     given.insert(key);
   }
-  for (const auto& p : params)
-    if (std::holds_alternative<std::monostate>(p.default_value) && !given.contains(p.key))
+  // Keys that only some items use (a box's min and max, a polygon's points) are required by those
+  // items and refused by the others, so that nothing given is silently ignored.
+  for (const auto& p : params) {
+    const bool required = std::holds_alternative<std::monostate>(p.default_value) || (p.applies && p.applies(item));
+    if (required && !given.contains(p.key))
       throw CaseError(fmt::format("{}: [[{}]] number {} has no '{}' ({}); expected {}", where(source, t), section,
                                   index + 1, p.key, p.description, expectation(p)));
+    if (p.applies && !p.applies(item) && given.contains(p.key))
+      throw CaseError(fmt::format("{}: [[{}]] number {} gives '{}', which a {} does not use ({})", where(source, t),
+                                  section, index + 1, p.key, describe_shape(item), p.description));
+  }
   return item;
 }
 
@@ -578,20 +622,35 @@ void validate_case(const Case& c, const std::string& source) {
     fail(fmt::format("the tank ({} m x {} m) is smaller than two particle spacings (dx = {} m)", c.tank_width,
                      c.tank_height, c.dx));
   if (c.water.empty()) fail("no [[water]] region; a case needs at least one");
-  auto check_box = [&](const Region& r, const std::string& what, std::size_t i) {
-    if (!(r.min[0] < r.max[0] && r.min[1] < r.max[1]))
-      fail(fmt::format("[[{}]] number {}: min {} must be below and left of max {}", what, i + 1,
-                       format_value(r.min), format_value(r.max)));
+  // A region's bounding box, after checking its shape.
+  auto check_region = [&](const Region& r, const std::string& what, std::size_t i) -> std::pair<Vec2, Vec2> {
+    if (r.shape == "box") {
+      if (!(r.min[0] < r.max[0] && r.min[1] < r.max[1]))
+        fail(fmt::format("[[{}]] number {}: min {} must be below and left of max {} (a box needs both)", what, i + 1,
+                         format_value(r.min), format_value(r.max)));
+      return {r.min, r.max};
+    }
+    if (r.points.size() < 3)
+      fail(fmt::format("[[{}]] number {}: a polygon needs at least 3 points, got {}", what, i + 1, r.points.size()));
+    Vec2 lo = r.points[0], hi = r.points[0];
+    double twice_area = 0.0;
+    for (std::size_t k = 0, j = r.points.size() - 1; k < r.points.size(); j = k++) {
+      lo = {std::min(lo[0], r.points[k][0]), std::min(lo[1], r.points[k][1])};
+      hi = {std::max(hi[0], r.points[k][0]), std::max(hi[1], r.points[k][1])};
+      twice_area += r.points[j][0] * r.points[k][1] - r.points[k][0] * r.points[j][1];
+    }
+    if (std::abs(twice_area) < 1e-12 * std::max(1.0, (hi[0] - lo[0]) * (hi[1] - lo[1])))
+      fail(fmt::format("[[{}]] number {}: the polygon's points enclose no area", what, i + 1));
+    return {lo, hi};
   };
   for (std::size_t i = 0; i < c.water.size(); ++i) {
-    const Region& r = c.water[i];
-    check_box(r, "water", i);
+    const auto [lo, hi] = check_region(c.water[i], "water", i);
     const double tol = 1e-9 * std::max(c.tank_width, c.tank_height);
-    if (r.min[0] < -tol || r.min[1] < -tol || r.max[0] > c.tank_width + tol || r.max[1] > c.tank_height + tol)
-      fail(fmt::format("[[water]] number {} (min {}, max {}) reaches outside the tank [0, {}] x [0, {}]", i + 1,
-                       format_value(r.min), format_value(r.max), c.tank_width, c.tank_height));
+    if (lo[0] < -tol || lo[1] < -tol || hi[0] > c.tank_width + tol || hi[1] > c.tank_height + tol)
+      fail(fmt::format("[[water]] number {} (from {} to {}) reaches outside the tank [0, {}] x [0, {}]", i + 1,
+                       format_value(lo), format_value(hi), c.tank_width, c.tank_height));
   }
-  for (std::size_t i = 0; i < c.walls.size(); ++i) check_box(c.walls[i], "wall", i);
+  for (std::size_t i = 0; i < c.walls.size(); ++i) check_region(c.walls[i], "wall", i);
   std::set<std::string> names;
   for (std::size_t i = 0; i < c.probes.size(); ++i) {
     const Probe& p = c.probes[i];
@@ -646,7 +705,9 @@ std::string case_template(const Case& c) {
       if (items.empty()) comment_lines(fmt::format("(this case has no [[{}]] entries)", s.name), "");
       for (const auto& item : items) {
         out += fmt::format("[[{}]]\n", s.name);
-        for (const auto& p : params) out += fmt::format("{} = {}\n", p.key, format_value(current_value(item, p)));
+        for (const auto& p : params)
+          if (p.applies == nullptr || p.applies(item))
+            out += fmt::format("{} = {}\n", p.key, format_value(current_value(item, p)));
       }
     };
     if (s.name == "water") write_items(c.water, region_params());

@@ -21,12 +21,13 @@ struct CaseError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-using ParamValue = std::variant<std::monostate, double, int, bool, std::string, Vec2, std::vector<std::string>>;
+using ParamValue =
+    std::variant<std::monostate, double, int, bool, std::string, Vec2, std::vector<std::string>, std::vector<Vec2>>;
 
 template <class Owner>
 struct Param {
   using Field = std::variant<double Owner::*, int Owner::*, bool Owner::*, std::string Owner::*, Vec2 Owner::*,
-                             std::vector<std::string> Owner::*>;
+                             std::vector<std::string> Owner::*, std::vector<Vec2> Owner::*>;
   std::string key;           // "domain.dx" for case keys; "min" for keys of a [[water]] item
   Field field;
   std::string unit;          // "" when dimensionless
@@ -35,6 +36,9 @@ struct Param {
   double upper = -1.0;
   std::vector<std::string> choices;  // allowed strings (empty: any)
   std::string description;
+  // For keys of an item that only some items use (a box's min/max, a polygon's points): whether the
+  // key applies to this item. Keys that do not apply are left out of the template.
+  bool (*applies)(const Owner&) = nullptr;
 };
 
 struct Section {

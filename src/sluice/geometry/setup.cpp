@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numbers>
+#include <tuple>
 
 #include "sluice/neighbors/cell_grid.hpp"
 #include "sluice/physics/eos.hpp"
@@ -52,22 +54,77 @@ void add_tank(Setup& s, const Case& c) {
   s.domain_upper = {w + depth, h + depth};
 }
 
-void add_obstacle(Setup& s, const Case& c, const Region& r) {
-  const Polygon box = Polygon::box(r.min, r.max);
-  const double depth = wall_layers(c) * c.dx;
-  for (double y : lattice(r.min[1], r.min[1], r.max[1], c.dx))
-    for (double x : lattice(r.min[0], r.min[0], r.max[0], c.dx))
-      if (box.distance_to_boundary({x, y}) < depth) s.particles.add({x, y}, Kind::wall, c.rest_density);
-  s.solids.push_back(box);
+Polygon region_polygon(const Region& r) {
+  return r.shape == "polygon" ? Polygon{r.points} : Polygon::box(r.min, r.max);
 }
 
+// Fills a solid polygon with wall particles to a depth of `layers` x dx inside its outline: rows
+// parallel to each edge at depths (k + 1/2) dx, spaced about dx along the edge, and arcs of the same
+// depths around each reflex corner (where the solid wraps around the water and the rows of the two
+// edges leave a wedge empty). Points closer than dx/2 to each other are thinned out afterwards.
+void add_solid(Setup& s, const Case& c, const Polygon& solid) {
+  const double dx = c.dx;
+  const int layers = wall_layers(c);
+  const std::size_t n = solid.points.size();
+  double twice_area = 0.0;
+  for (std::size_t k = 0, j = n - 1; k < n; j = k++)
+    twice_area += solid.points[j][0] * solid.points[k][1] - solid.points[k][0] * solid.points[j][1];
+  const double orientation = twice_area > 0.0 ? 1.0 : -1.0;  // +1: counter-clockwise
+  auto edge = [&](std::size_t k) {
+    const Vec2 a = solid.points[k], b = solid.points[(k + 1) % n];
+    const double length = norm(b - a);
+    const Vec2 tangent = (1.0 / length) * (b - a);
+    const Vec2 inward = orientation * Vec2{-tangent[1], tangent[0]};  // into the solid
+    return std::tuple{a, length, tangent, inward};
+  };
+  auto add = [&](Vec2 p) {
+    if (solid.contains(p)) s.particles.add(p, Kind::wall, c.rest_density);
+  };
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto [a, length, tangent, inward] = edge(k);
+    if (length <= 0.0) continue;
+    const int along = std::max(1, static_cast<int>(std::lround(length / dx)));
+    const double spacing = length / along;
+    for (int layer = 0; layer < layers; ++layer) {
+      const double depth = (layer + 0.5) * dx;
+      for (int j = 0; j < along; ++j) add(a + ((j + 0.5) * spacing) * tangent + depth * inward);
+    }
+  }
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto [a_in, len_in, t_in, n_in] = edge((k + n - 1) % n);
+    const auto [vertex, len_out, t_out, n_out] = edge(k);
+    const double turn = orientation * (t_in[0] * t_out[1] - t_in[1] * t_out[0]);
+    if (turn >= -1e-12) continue;  // convex (or straight) corner of the solid: the rows overlap
+    const double start = std::atan2(n_in[1], n_in[0]);
+    double sweep = std::atan2(n_out[1], n_out[0]) - start;
+    while (sweep <= -std::numbers::pi) sweep += 2.0 * std::numbers::pi;
+    while (sweep > std::numbers::pi) sweep -= 2.0 * std::numbers::pi;
+    for (int layer = 0; layer < layers; ++layer) {
+      const double radius = (layer + 0.5) * dx;
+      const int count = static_cast<int>(std::lround(radius * std::abs(sweep) / dx));
+      for (int j = 0; j < count; ++j) {
+        const double angle = start + (j + 0.5) * sweep / count;
+        add(vertex + radius * Vec2{std::cos(angle), std::sin(angle)});
+      }
+    }
+  }
+  s.solids.push_back(solid);
+}
+
+// Water on the lattice (i + 1/2) dx inside the region, outside every solid and at least dx/2 from
+// every solid surface (so at least dx from the first wall layer).
 void add_water(Setup& s, const Case& c, const Region& r) {
+  const Polygon region = region_polygon(r);
   const double tol = 1e-9 * c.dx;
-  for (double y : lattice(0.0, r.min[1] - tol, r.max[1] + tol, c.dx))
-    for (double x : lattice(0.0, r.min[0] - tol, r.max[0] + tol, c.dx)) {
+  const Vec2 lo = region.lower(), hi = region.upper();
+  for (double y : lattice(0.0, lo[1] - tol, hi[1] + tol, c.dx))
+    for (double x : lattice(0.0, lo[0] - tol, hi[0] + tol, c.dx)) {
       const Vec2 p{x, y};
-      if (std::any_of(s.solids.begin(), s.solids.end(), [&](const Polygon& q) { return q.contains(p); })) continue;
-      s.particles.add(p, Kind::fluid, c.rest_density);
+      if (!region.contains(p)) continue;
+      const bool blocked = std::any_of(s.solids.begin(), s.solids.end(), [&](const Polygon& q) {
+        return q.contains(p) || q.distance_to_boundary(p) < 0.5 * c.dx - tol;
+      });
+      if (!blocked) s.particles.add(p, Kind::fluid, c.rest_density);
     }
 }
 
@@ -157,7 +214,7 @@ void set_hydrostatic_density(Particles<2>& p, const Case& c) {
 Setup build_setup(const Case& c) {
   Setup s;
   add_tank(s, c);
-  for (const Region& r : c.walls) add_obstacle(s, c, r);
+  for (const Region& r : c.walls) add_solid(s, c, region_polygon(r));
   for (const Region& r : c.water) add_water(s, c, r);
   s.removed_near_coincident = remove_near_coincident(s.particles, 0.5 * c.dx);
   if (c.hydrostatic_start) set_hydrostatic_density(s.particles, c);
