@@ -1,3 +1,4 @@
+#include "sluice/core/parallel.hpp"
 #include "sluice/simulation.hpp"
 
 #include <algorithm>
@@ -34,6 +35,9 @@ void Simulation::init(const Case& c) {
   settings_.h = h;
   settings_.viscosity = c.viscosity;
   settings_.alpha = c.artificial_viscosity;
+  settings_.artificial_pressure = c.artificial_pressure;
+  settings_.artificial_pressure_exponent = c.artificial_pressure_exponent;
+  settings_.spacing = c.dx;
   settings_.delta = c.density_diffusion;
   settings_.gravity = c.gravity;
   settings_.eos = TaitEos{c.rest_density, c.sound_speed, c.gamma};
@@ -59,8 +63,11 @@ RateSummary Simulation::evaluate(bool shepard_due, bool mid_step) {
                          [&](std::size_t i) { return shepard_due || repair[i] != 0; });
           std::fill(particles_.needs_density_repair.begin(), particles_.needs_density_repair.end(), 0);
         }
-        terms_.compute(particles_, settings_.eos, threads_);
-        return compute_rates(particles_, grid_, kernel, settings_, terms_, threads_);
+        terms_.compute(particles_, settings_.eos, threads_, settings_.artificial_pressure);
+        using K = std::decay_t<decltype(kernel)>;
+        if (settings_.artificial_pressure > 0.0)
+          return compute_rates<2, K, true>(particles_, grid_, kernel, settings_, terms_, threads_);
+        return compute_rates<2, K, false>(particles_, grid_, kernel, settings_, terms_, threads_);
       },
       kernel_);
 }
@@ -79,6 +86,7 @@ double Simulation::choose_dt(const RateSummary& r) const {
 void Simulation::step(double time_limit) {
   const bool shepard_due = case_.shepard_every > 0 && clock_.step > 0 && clock_.step % case_.shepard_every == 0;
   const RateSummary rates = evaluate(shepard_due, false);
+  min_particle_distance_ = rates.min_fluid_distance;
   double dt = choose_dt(rates);
   if (!(dt > 0.0) || !std::isfinite(dt))
     throw std::runtime_error(fmt::format("time step {} at t = {} s is not a positive finite number", dt, clock_.time));
@@ -132,6 +140,7 @@ Diagnostics Simulation::diagnostics() const {
     d.potential_energy -= m * g_dot_x;
   }
   d.total_mass = m * static_cast<double>(d.fluid_particles);
+  d.min_particle_distance = min_particle_distance_;
   return d;
 }
 
@@ -155,7 +164,7 @@ Health Simulation::check_health(std::size_t max_reported) const {
   };
   const long n = static_cast<long>(p.size());
   long bad = 0;
-#pragma omp parallel for num_threads(threads_) schedule(static) reduction(+ : bad)
+#pragma omp parallel for num_threads(threads_) schedule(static) reduction(+ : bad) if (n >= light_loop_parallel_threshold)
   for (long i = 0; i < n; ++i) bad += problem(static_cast<std::size_t>(i)) != nullptr;
   Health health;
   health.offending = static_cast<std::size_t>(bad);

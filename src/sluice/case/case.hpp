@@ -51,9 +51,12 @@ struct Case {
   // [physics]
   Vec2 gravity{};
   double artificial_viscosity = 0.0;  // Monaghan alpha
+  double artificial_pressure = 0.0;   // Monaghan (2000) epsilon; 0 = off
+  int artificial_pressure_exponent = 4;
   double density_diffusion = 0.0;     // delta-SPH delta
   int shepard_every = 0;              // steps between Shepard density filters (0 = off)
   bool hydrostatic_start = true;
+  double initial_pressure = 0.0;      // added to the water's initial pressure
 
   // [time]
   double end_time = 0.0;

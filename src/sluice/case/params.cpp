@@ -81,10 +81,19 @@ const std::vector<Param<Case>>& case_params() {
               "Gravitational acceleration [gx, gy]."),
       declare("physics.artificial_viscosity", &Case::artificial_viscosity, "", 0.1, 0.0, 1.0,
               "Monaghan (1992) artificial viscosity alpha (0 = off)."),
+      declare("physics.artificial_pressure", &Case::artificial_pressure, "", 0.0, 0.0, 1.0,
+              "Monaghan (2000) artificial pressure epsilon against particle clumping (tensile instability): a "
+              "short-range repulsion eps |P|/rho^2 where P < 0 (and 0.01 P/rho^2 where P > 0); 0 = off, 0.2 is "
+              "Monaghan's value."),
+      declare("physics.artificial_pressure_exponent", &Case::artificial_pressure_exponent, "", 4, 1.0, 12.0,
+              "Exponent n of the artificial pressure's kernel ratio (W(r)/W(dx))^n."),
       declare("physics.density_diffusion", &Case::density_diffusion, "", 0.1, 0.0, 1.0,
               "delta-SPH density diffusion coefficient delta (Molteni & Colagrossi 2009, hydrostatic part removed as in Fourtakas et al. 2019; 0 = off)."),
       declare("physics.shepard_every", &Case::shepard_every, "steps", 20, 0.0, 1e9,
               "Re-initialise the fluid density with a Shepard filter every this many steps (0 = off)."),
+      declare("physics.initial_pressure", &Case::initial_pressure, "Pa", 0.0, -1e9, 1e9,
+              "Pressure added to the water's initial (hydrostatic) pressure; negative puts the water under tension "
+              "(see the tension case)."),
       declare("physics.hydrostatic_start", &Case::hydrostatic_start, "", true, unbounded_lower, unbounded_upper,
               "Start water (and the walls under it) at hydrostatic density, so water at rest stays at rest."),
       declare("time.end", &Case::end_time, "s", 30.0, 0.0, inf, "Simulated end time."),

@@ -1,6 +1,7 @@
 // Particle storage: one array per field (structure of arrays), free of global state.
 #pragma once
 
+#include "sluice/core/parallel.hpp"
 #include <array>
 #include <cstdint>
 #include <numeric>
@@ -67,7 +68,7 @@ struct Particles {
       const double* __restrict in = field.data();
       double* __restrict out = scratch.data();
       const std::uint32_t* __restrict from = order.data();
-#pragma omp parallel for num_threads(threads) schedule(static)
+#pragma omp parallel for num_threads(threads) schedule(static) if (n >= light_loop_parallel_threshold)
       for (long k = 0; k < n; ++k) out[k] = in[from[k]];
       field.swap(scratch);
     };

@@ -1,3 +1,4 @@
+#include "sluice/core/parallel.hpp"
 #include "sluice/geometry/leaks.hpp"
 
 #include <algorithm>
@@ -27,7 +28,7 @@ std::size_t put_back_leaked(Particles<2>& p, const std::vector<Polygon>& solids,
 
   long count = 0;
   const long n = static_cast<long>(p.size());
-#pragma omp parallel for num_threads(threads) schedule(static) reduction(+ : count)
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(+ : count) if (n >= light_loop_parallel_threshold)
   for (long i = 0; i < n; ++i) {
     if (p.kind[i] != Kind::fluid) continue;
     Vec2 x{p.position[0][i], p.position[1][i]};

@@ -218,6 +218,13 @@ Setup build_setup(const Case& c) {
   for (const Region& r : c.water) add_water(s, c, r);
   s.removed_near_coincident = remove_near_coincident(s.particles, 0.5 * c.dx);
   if (c.hydrostatic_start) set_hydrostatic_density(s.particles, c);
+  if (c.initial_pressure != 0.0) {
+    const TaitEos eos{c.rest_density, c.sound_speed, c.gamma};
+    const double floor = -0.99 * eos.stiffness();  // the lowest pressure the Tait equation can represent
+    for (std::size_t i = 0; i < s.particles.size(); ++i)
+      if (s.particles.is_fluid(i))
+        s.particles.density[i] = eos.density(std::max(eos.pressure(s.particles.density[i]) + c.initial_pressure, floor));
+  }
   return s;
 }
 

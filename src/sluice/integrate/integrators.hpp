@@ -3,6 +3,7 @@
 // DualSPHysics' dynamic boundaries) so a wall never pulls fluid towards itself.
 #pragma once
 
+#include "sluice/core/parallel.hpp"
 #include <algorithm>
 
 #include "sluice/core/particles.hpp"
@@ -13,7 +14,7 @@ namespace sluice {
 template <int Dim>
 void euler_update(Particles<Dim>& p, double dt, double wall_density_floor, int threads) {
   const long n = static_cast<long>(p.size());
-#pragma omp parallel for num_threads(threads) schedule(static)
+#pragma omp parallel for num_threads(threads) schedule(static) if (n >= light_loop_parallel_threshold)
   for (long i = 0; i < n; ++i) {
     if (p.is_fluid(static_cast<std::size_t>(i))) {
       for (int d = 0; d < Dim; ++d) {
@@ -43,7 +44,7 @@ void predictor_update(Particles<Dim>& p, double dt, double wall_density_floor, i
 template <int Dim>
 void corrector_update(Particles<Dim>& p, double dt, double wall_density_floor, int threads) {
   const long n = static_cast<long>(p.size());
-#pragma omp parallel for num_threads(threads) schedule(static)
+#pragma omp parallel for num_threads(threads) schedule(static) if (n >= light_loop_parallel_threshold)
   for (long i = 0; i < n; ++i) {
     if (p.is_fluid(static_cast<std::size_t>(i))) {
       for (int d = 0; d < Dim; ++d) {

@@ -21,14 +21,15 @@ struct CubicSpline {
     if constexpr (Dim == 3) norm = 1.0 / (std::numbers::pi * h * h * h);
   }
 
-  [[nodiscard]] double value(double r) const {
+  [[nodiscard]] double value(double r) const { return r < support * h ? value_inside(r) : 0.0; }
+
+  // W for 0 <= r < 2h, branch-free.
+  [[nodiscard]] double value_inside(double r) const {
     const double q = r * inv_h;
-    if (q < 1.0) return norm * (1.0 - 1.5 * q * q + 0.75 * q * q * q);
-    if (q < 2.0) {
-      const double t = 2.0 - q;
-      return norm * 0.25 * t * t * t;
-    }
-    return 0.0;
+    const double t = 2.0 - q;
+    const double inner = 1.0 - 1.5 * q * q + 0.75 * q * q * q;
+    const double outer = 0.25 * t * t * t;
+    return norm * (q < 1.0 ? inner : outer);
   }
 
   // dW/dr (negative inside the support, zero outside and at r = 0).
@@ -59,9 +60,10 @@ struct WendlandC2 {
     if constexpr (Dim == 3) norm = 21.0 / (16.0 * std::numbers::pi * h * h * h);
   }
 
-  [[nodiscard]] double value(double r) const {
+  [[nodiscard]] double value(double r) const { return r < support * h ? value_inside(r) : 0.0; }
+
+  [[nodiscard]] double value_inside(double r) const {
     const double q = r * inv_h;
-    if (q >= 2.0) return 0.0;
     const double t = 1.0 - 0.5 * q;
     return norm * t * t * t * t * (2.0 * q + 1.0);
   }

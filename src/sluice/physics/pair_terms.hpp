@@ -25,6 +25,14 @@ inline double artificial_viscosity(double alpha, double c0, double h, double m, 
   return -m * pi_ij * dW;
 }
 
+// Monaghan (2000) artificial pressure against the tensile instability: a_i += -m R_ij f^n dW e_ij,
+// f = W(r)/W(dx), R_ij = R_i + R_j with R = eps |P|/rho^2 for particles under tension (P < 0) and
+// R = 0.01 P/rho^2 otherwise (Monaghan's small positive-pressure term, which stops pairing).
+// Returns the factor of e_ij; f_n = f^n.
+inline double artificial_pressure(double m, double r_i, double r_j, double f_n, double dW) {
+  return -m * (r_i + r_j) * f_n * dW;
+}
+
 // Continuity: drho_i/dt += m dW (v_ij . e_ij).
 inline double continuity(double m, double dW, double v_dot_e) { return m * dW * v_dot_e; }
 

@@ -3,6 +3,7 @@
 // order, so results do not depend on the number of threads.
 #pragma once
 
+#include "sluice/core/parallel.hpp"
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -24,6 +25,9 @@ struct RateSettings {
   double delta;         // density diffusion
   Vec<Dim> gravity;
   TaitEos eos;
+  double artificial_pressure = 0.0;  // Monaghan (2000) epsilon; 0 = off
+  int artificial_pressure_exponent = 4;
+  double spacing = 0.0;              // dx, for W(dx) in the artificial pressure
 };
 
 // Per-particle terms computed once per evaluation instead of once per pair.
@@ -34,14 +38,15 @@ struct ParticleTerms {
   std::vector<double> inv_rho;      // 1 / rho
   std::vector<double> hydro_k;      // rho / c^2: d(rho)/d(P) for the hydrostatic density difference
   std::vector<double> fluid_mask;   // 1 for fluid, 0 for wall
+  std::vector<double> tension;      // eps |P| / rho^2 where P < 0, else 0 (artificial pressure)
 
   template <int Dim>
-  void compute(const Particles<Dim>& p, const TaitEos& eos, int threads) {
+  void compute(const Particles<Dim>& p, const TaitEos& eos, int threads, double artificial_pressure = 0.0) {
     const long n = static_cast<long>(p.size());
-    for (auto* v : {&pressure, &p_over_rho2, &inv_rho2, &inv_rho, &hydro_k, &fluid_mask})
+    for (auto* v : {&pressure, &p_over_rho2, &inv_rho2, &inv_rho, &hydro_k, &fluid_mask, &tension})
       v->resize(static_cast<std::size_t>(n));
     const double c0_2 = eos.sound_speed * eos.sound_speed;
-#pragma omp parallel for num_threads(threads) schedule(static)
+#pragma omp parallel for num_threads(threads) schedule(static) if (n >= light_loop_parallel_threshold)
     for (long i = 0; i < n; ++i) {
       const double rho = p.density[i];
       const double pressure_i = eos.pressure(rho);
@@ -53,6 +58,7 @@ struct ParticleTerms {
       const double c2 = eos.gamma * (pressure_i + eos.stiffness()) * inv_rho[i];
       hydro_k[i] = rho / std::max(c2, 1e-12 * c0_2);
       fluid_mask[i] = p.kind[i] == Kind::fluid ? 1.0 : 0.0;
+      tension[i] = pressure_i < 0.0 ? -artificial_pressure * p_over_rho2[i] : 0.01 * (artificial_pressure > 0.0) * p_over_rho2[i];
     }
   }
 };
@@ -61,6 +67,7 @@ struct RateSummary {
   double max_acceleration = 0.0;    // over fluid particles, including gravity
   double max_relative_speed = 0.0;  // max |v_ij| over interacting pairs
   double max_density = 0.0;         // over all particles
+  double min_fluid_distance = 0.0;  // smallest distance from a fluid particle to any other (clumping)
 };
 
 // Collects the neighbours j != i within the kernel support of particle i (at x_i) into `list` and
@@ -92,10 +99,12 @@ std::uint32_t collect_neighbors(const CellGrid<Dim>& grid, std::uint32_t cell, c
 // second pass sums the pair terms over exactly those, in a loop written branch-free so that the
 // compiler vectorises it. `#pragma omp simd` allows the vectorised sums, whose order is fixed by the
 // binary and the neighbour order, never by the thread count.
-template <int Dim, class Kernel>
+template <int Dim, class Kernel, bool WithArtificialPressure = false>
 RateSummary compute_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const Kernel& kernel,
                           const RateSettings<Dim>& s, const ParticleTerms& t, int threads) {
   static_assert(Dim >= 1 && Dim <= 3);
+  const double inv_w_dx = WithArtificialPressure ? 1.0 / kernel.value(s.spacing) : 0.0;
+  const int ap_n = s.artificial_pressure_exponent;
   const long n = static_cast<long>(p.size());
   const double support2 = Kernel::support * Kernel::support * s.h * s.h;
   const double min_r2 = 1e-18 * s.h * s.h;  // excludes i = j (and exactly coincident points)
@@ -125,16 +134,18 @@ RateSummary compute_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const Ke
   const double* __restrict inv_rho = t.inv_rho.data();
   const double* __restrict hydro_k = t.hydro_k.data();
   const double* __restrict fluid_mask = t.fluid_mask.data();
+  const double* __restrict tension = t.tension.data();
   double* __restrict density_rate = p.density_rate.data();
 
   double max_accel2 = 0.0;
   double max_vij2 = 0.0;
   double max_rho = 0.0;
+  double closest2 = support2;
 
 #pragma omp parallel num_threads(threads)
   {
     std::vector<std::uint32_t> neighbors(512);
-#pragma omp for schedule(dynamic, 256) reduction(max : max_accel2, max_vij2, max_rho)
+#pragma omp for schedule(dynamic, 256) reduction(max : max_accel2, max_vij2, max_rho) reduction(min : closest2)
     for (long i = 0; i < n; ++i) {
       max_rho = std::max(max_rho, rho[i]);
       std::array<double, Dim> xi{};
@@ -166,9 +177,11 @@ RateSummary compute_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const Ke
       const double pr_i = p_over_rho2[i];
       const double ir2_i = inv_rho2[i];
       const double k_i = hydro_k[i];
+      const double tension_i = tension[i];
       double acc0 = 0.0, acc1 = 0.0, acc2 = 0.0;
       double vij2_max = 0.0;
-#pragma omp simd reduction(+ : acc0, acc1, acc2, drho) reduction(max : vij2_max)
+      double r2_min = support2;
+#pragma omp simd reduction(+ : acc0, acc1, acc2, drho) reduction(max : vij2_max) reduction(min : r2_min)
       for (std::uint32_t k = 0; k < count; ++k) {
         const std::uint32_t j = list[k];
         const double dx0 = xi0 - x0[j];
@@ -184,8 +197,14 @@ RateSummary compute_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const Ke
         const double inv_r = 1.0 / r;
         const double dW = kernel.derivative_inside(r);
 
-        const double along_e = pair::pressure(m, pr_i, p_over_rho2[j], dW) +
-                               pair::artificial_viscosity(alpha, c0, h, m, v_dot_r, r2, 0.5 * (rho_i + rho[j]), dW);
+        double along_e = pair::pressure(m, pr_i, p_over_rho2[j], dW) +
+                         pair::artificial_viscosity(alpha, c0, h, m, v_dot_r, r2, 0.5 * (rho_i + rho[j]), dW);
+        if constexpr (WithArtificialPressure) {
+          const double f = kernel.value_inside(r) * inv_w_dx;
+          double f_n = 1.0;
+          for (int e = 0; e < ap_n; ++e) f_n *= f;
+          along_e += pair::artificial_pressure(m, tension_i, tension[j], f_n, dW);
+        }
         const double along_v = pair::laminar_viscosity(mu, m, ir2_i, inv_rho2[j], dW, inv_r);
         const double drho_hydro = -0.5 * (k_i + hydro_k[j]) * g_dot_r;  // rho_j^H - rho_i^H
         drho += pair::continuity(m, dW, v_dot_r * inv_r) +
@@ -196,6 +215,7 @@ RateSummary compute_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const Ke
         acc1 += e_factor * dx1 + along_v * vij1;
         acc2 += e_factor * dx2 + along_v * vij2;
         vij2_max = std::max(vij2_max, vij0 * vij0 + vij1 * vij1 + vij2 * vij2);
+        r2_min = std::min(r2_min, r2);
       }
       acc0 += g0;
       acc1 += g1;
@@ -206,9 +226,10 @@ RateSummary compute_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const Ke
       density_rate[i] = drho;
       max_accel2 = std::max(max_accel2, acc0 * acc0 + acc1 * acc1 + acc2 * acc2);
       max_vij2 = std::max(max_vij2, vij2_max);
+      closest2 = std::min(closest2, r2_min);
     }
   }
-  return {std::sqrt(max_accel2), std::sqrt(max_vij2), max_rho};
+  return {std::sqrt(max_accel2), std::sqrt(max_vij2), max_rho, std::sqrt(closest2)};
 }
 
 // Shepard density filter (sum includes i = j): rho_i = sum_j m W_ij / sum_j (m/rho_j) W_ij, applied
