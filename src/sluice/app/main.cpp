@@ -1,5 +1,6 @@
 // The sluice command line: lists the commands (each in its own file) and maps errors to exit codes.
 #include <algorithm>
+#include <csignal>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -12,6 +13,9 @@
 using namespace sluice;
 
 int main(int argc, char** argv) {
+  // Past a file-size limit (ulimit -f) a write then fails with EFBIG and is reported like a full disk,
+  // instead of the process being killed by SIGXFSZ.
+  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App cli{"sluice: a fast, validated SPH solver for free-surface water flows (dam breaks, sloshing, waves)."};
   cli.set_version_flag("--version", std::string("sluice ") + SLUICE_VERSION);
   cli.require_subcommand(1);

@@ -51,9 +51,10 @@ int run(const RunArgs& a) {
   RunOptions options;
   options.threads = a.threads > 0 ? a.threads : omp_get_num_procs();
   if (!a.restart.empty()) {
-    if (!a.case_arg.empty() || !a.sets.empty())
-      throw BadInput("--restart continues the case stored in the checkpoint; give no case file or --set with it");
+    if (!a.case_arg.empty())
+      throw BadInput("--restart continues the case stored in the checkpoint; give no case with it");
     options.restart = a.restart;
+    options.restart_overrides = a.sets;  // only time.end is accepted (checked by run_case)
     std::error_code ec;
     if (!fs::is_regular_file(a.restart, ec)) throw IoError(fmt::format("{}: no such checkpoint file", a.restart));
     options.output_dir = a.output.empty() ? fs::path(a.restart).parent_path() : fs::path(a.output);
@@ -90,7 +91,9 @@ Command add_run_command(CLI::App& app) {
   cmd->add_option("--set", args->sets, "Override a case key, e.g. --set domain.dx=0.1 (repeatable)")
       ->allow_extra_args(false);
   cmd->add_option("--threads", args->threads, "Threads to use (default: all cores)")->check(CLI::Range(1, 1024));
-  cmd->add_option("--restart", args->restart, "Continue from a checkpoint file (e.g. out/dam_break/checkpoint.bin)");
+  cmd->add_option("--restart", args->restart,
+                  "Continue from a checkpoint file (e.g. out/dam_break/checkpoint.bin); with it, --set may only "
+                  "change time.end");
   cmd->add_flag("-q,--quiet", args->quiet, "No progress line");
   return {cmd, [args] { return run(*args); }};
 }

@@ -1,12 +1,15 @@
 #include "sluice/io/atomic_file.hpp"
 
 #include <fmt/format.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <charconv>
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 namespace sluice {
 
@@ -65,6 +68,8 @@ void write_file_atomic(const std::filesystem::path& path, std::string_view conte
 
 void create_directories_or_throw(const std::filesystem::path& dir) {
   std::error_code ec;
+  if (std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec))
+    throw IoError(fmt::format("{}: exists and is not a directory", dir.string()));
   std::filesystem::create_directories(dir, ec);
   if (ec) throw IoError(fmt::format("{}: cannot create directory ({})", dir.string(), ec.message()));
   if (!std::filesystem::is_directory(dir, ec))
@@ -80,6 +85,29 @@ std::string read_file(const std::filesystem::path& path) {
   std::ostringstream text;
   text << in.rdbuf();
   return text.str();
+}
+
+std::size_t remove_stale_temp_files(const std::filesystem::path& dir) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) return 0;
+  std::vector<fs::path> stale;
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    const auto at = name.rfind(".tmp");
+    if (at == std::string::npos || at + 4 == name.size()) continue;
+    long pid = 0;
+    const char* first = name.data() + at + 4;
+    const char* last = name.data() + name.size();
+    const auto [end, err] = std::from_chars(first, last, pid);
+    if (err != std::errc() || end != last || pid <= 0) continue;
+    // Still being written by a live process (kill(pid, 0) succeeds or is not permitted): leave it.
+    if (pid == static_cast<long>(::getpid()) || ::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;
+    if (entry.is_regular_file(ec)) stale.push_back(entry.path());
+  }
+  std::size_t removed = 0;
+  for (const auto& p : stale) removed += fs::remove(p, ec) ? 1 : 0;
+  return removed;
 }
 
 }  // namespace sluice

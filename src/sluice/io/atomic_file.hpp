@@ -44,4 +44,8 @@ void create_directories_or_throw(const std::filesystem::path& dir);
 // Reads a whole file, or throws IoError naming it.
 std::string read_file(const std::filesystem::path& path);
 
+// Removes the temporary files (`<name>.tmp<pid>`) that a killed process left in `dir`, when the
+// process that wrote them is gone. Returns how many were removed; never throws.
+std::size_t remove_stale_temp_files(const std::filesystem::path& dir);
+
 }  // namespace sluice

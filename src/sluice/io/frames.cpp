@@ -134,9 +134,12 @@ std::string frame_to_vtu(const Frame& f) {
 
   std::string xml, appended;
   auto declare = [&](const AppendedArray& a) {
-    xml += fmt::format(R"(        <DataArray type="{}" Name="{}" NumberOfComponents="{}" format="appended" offset="{}"/>)"
+    // Scalars leave NumberOfComponents at its default of 1, so readers give them shape (N,), not (N, 1).
+    const std::string components =
+        a.components == 1 ? std::string() : fmt::format(R"( NumberOfComponents="{}")", a.components);
+    xml += fmt::format(R"(        <DataArray type="{}" Name="{}"{} format="appended" offset="{}"/>)"
                        "\n",
-                       a.type, a.name, a.components, appended.size());
+                       a.type, a.name, components, appended.size());
     const std::uint64_t size = a.bytes.size();
     appended.append(reinterpret_cast<const char*>(&size), sizeof size);
     appended += a.bytes;

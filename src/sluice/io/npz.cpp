@@ -4,6 +4,7 @@
 #include <zlib.h>
 
 #include <bit>
+#include <charconv>
 #include <cstring>
 #include <regex>
 
@@ -118,8 +119,17 @@ NpyArray parse_npy(const std::string& b, const std::string& name) {
   if (!std::regex_search(header, m, shape_re)) throw FormatError(fmt::format("{}: .npy header has no shape", name));
   const std::string dims = m[1];
   static const std::regex number(R"(\d+)");
-  for (auto it = std::sregex_iterator(dims.begin(), dims.end(), number); it != std::sregex_iterator(); ++it)
-    a.shape.push_back(std::stoull(it->str()));
+  std::size_t count = 1;
+  for (auto it = std::sregex_iterator(dims.begin(), dims.end(), number); it != std::sregex_iterator(); ++it) {
+    const std::string digits = it->str();
+    std::size_t dim = 0;
+    const auto [end, err] = std::from_chars(digits.data(), digits.data() + digits.size(), dim);
+    // Each dimension, and the element count, must fit comfortably in memory arithmetic.
+    if (err != std::errc() || end != digits.data() + digits.size() || (dim != 0 && count > (std::size_t{1} << 48) / dim))
+      throw FormatError(fmt::format("{}: .npy shape ({}) is too large", name, dims));
+    count *= dim;
+    a.shape.push_back(dim);
+  }
   a.bytes = b.substr(start + header_len);
   return a;
 }

@@ -2,11 +2,13 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <map>
 #include <memory>
 
+#include "sluice/case/params.hpp"
 #include "sluice/io/atomic_file.hpp"
 #include "sluice/io/checkpoint.hpp"
 #include "sluice/io/frames.hpp"
@@ -29,9 +31,29 @@ std::string format_duration(double seconds) {
   return fmt::format("{}:{:02}", s / 60, s % 60);
 }
 
-// Index of the first frame time k * interval strictly after t (frames land exactly on those times).
+// Index of the first frame time k * interval strictly after t (frames land exactly on those times,
+// computed as static_cast<double>(k) * interval). Exact, so that a restart finds the same next frame
+// and checkpoint times as the run that never stopped.
 std::int64_t next_index_after(double t, double interval) {
-  return static_cast<std::int64_t>(std::floor(t / interval + 1e-9)) + 1;
+  auto k = static_cast<std::int64_t>(std::floor(t / interval)) + 1;
+  while (k > 0 && static_cast<double>(k - 1) * interval > t) --k;
+  while (static_cast<double>(k) * interval <= t) ++k;
+  return k;
+}
+
+// The time a run stops at. Frame and checkpoint times are computed as k * interval, which can differ
+// from the decimal a user writes by rounding (3 * 0.1 = 0.30000000000000004): an end time within
+// rounding of one of them is taken as that time, so that a run with `time.end = 0.3` stops exactly
+// where a longer run of the same case writes its frame, and a restart from its checkpoint continues
+// that longer run bit for bit.
+double stop_time(const Case& c) {
+  for (const double interval : {c.output_interval, c.checkpoint_interval}) {
+    if (!(interval > 0.0)) continue;
+    const double k = std::round(c.end_time / interval);
+    const double on_grid = k * interval;
+    if (std::abs(on_grid - c.end_time) <= 1e-9 * interval) return on_grid;
+  }
+  return c.end_time;
 }
 
 void remove_previous_outputs(const std::filesystem::path& dir, const std::string& case_name) {
@@ -62,24 +84,35 @@ class Outputs {
     diagnostics_ = "time,step,dt,max_speed,min_density,max_density,kinetic_energy,potential_energy,total_energy,"
                    "total_mass,leaks,wall_time\n";
     if (!fresh) {
+      // Frames 0..K at the regular times up to the checkpoint were written before it and are kept,
+      // with their diagnostics rows. A frame written at the checkpoint time when that was not a
+      // regular frame time (the end of the previous run, or Ctrl-C) is dropped: the continued run
+      // writes that frame number at its regular time, as the run that never stopped did.
+      const std::int64_t last = next_index_after(sim.time(), interval_) - 1;
+      const double last_time = static_cast<double>(last) * interval_;
       std::error_code ec;
       const auto path = dir_ / output_files::diagnostics;
-      if (std::filesystem::exists(path, ec)) diagnostics_ = csv_rows_until(read_file(path), sim.time());
-      // Frames 0..K written before the checkpoint stay listed in the collection.
-      const std::int64_t last = next_index_after(sim.time(), interval_) - 1;
-      for (std::int64_t k = 0; k <= last; ++k) pvd_entries_[k] = static_cast<double>(k) * interval_;
+      if (std::filesystem::exists(path, ec)) diagnostics_ = csv_rows_until(read_file(path), last_time);
+      if (write_vtk_)
+        for (std::int64_t k = 0; k <= last; ++k)
+          if (std::filesystem::exists(dir_ / (frame_stem(k) + ".vtu"), ec))
+            pvd_entries_[k] = static_cast<double>(k) * interval_;
     }
+  }
+
+  static std::string frame_stem(std::int64_t index) {
+    return fmt::format("{}/frame_{:06}", output_files::frames_dir, index);
   }
 
   void write_frame(std::int64_t index, const Simulation& sim, double wall_seconds) {
     const Frame frame = make_frame(sim);
-    const std::string stem = fmt::format("{}/frame_{:06}", output_files::frames_dir, index);
+    const std::string stem = frame_stem(index);
     if (write_npz_) write_file_atomic(dir_ / (stem + ".npz"), frame_to_npz(frame));
     if (write_vtk_) {
       write_file_atomic(dir_ / (stem + ".vtu"), frame_to_vtu(frame));
       pvd_entries_[index] = frame.time;
       std::vector<std::pair<double, std::string>> entries;
-      for (const auto& [k, t] : pvd_entries_) entries.emplace_back(t, fmt::format("{}/frame_{:06}.vtu", output_files::frames_dir, k));
+      for (const auto& [k, t] : pvd_entries_) entries.emplace_back(t, frame_stem(k) + ".vtu");
       write_file_atomic(dir_ / (name_ + ".pvd"), pvd_text(entries));
     }
     const Diagnostics d = sim.diagnostics();
@@ -94,6 +127,8 @@ class Outputs {
 
   void sample_probes(const Simulation& sim) { probes_.sample(sim); }
   void write_checkpoint_file(const Simulation& sim, double wall_seconds) {
+    // Probe samples up to the checkpoint must be on disk before it: a restart keeps those rows.
+    probes_.flush();
     write_checkpoint(dir_ / output_files::checkpoint, sim, wall_before_ + wall_seconds);
   }
   [[nodiscard]] int frames_written() const { return frames_written_; }
@@ -157,7 +192,24 @@ RunResult run_case(const Case& requested, const RunOptions& options, std::ostrea
   double wall_before = 0.0;
   const bool fresh = !options.restart;
   if (options.restart) {
+    const std::string source = options.restart->string();
     Checkpoint cp = read_checkpoint(*options.restart);
+    for (const std::string& assignment : options.restart_overrides) {
+      const std::string key = assignment.substr(0, assignment.find('='));
+      const auto first = key.find_first_not_of(" \t");
+      const auto last = key.find_last_not_of(" \t");
+      if (first == std::string::npos || key.substr(first, last - first + 1) != "time.end")
+        throw CaseError(fmt::format(
+            "--set {}: a restart continues the case stored in {}; only time.end can be changed (to run on past "
+            "its end)",
+            assignment, source));
+      apply_override(cp.config, assignment);
+    }
+    if (cp.clock.time >= stop_time(cp.config))
+      throw CaseError(fmt::format(
+          "{}: the checkpoint is at t = {} s, already at the case's end (time.end = {} s); to run on, give a later "
+          "end: sluice run --restart {} --set time.end=<seconds>",
+          source, cp.clock.time, cp.config.end_time, source));
     wall_before = cp.wall_seconds;
     sim = std::make_unique<Simulation>(cp.config, std::move(cp.particles), cp.clock, options.threads);
   } else {
@@ -166,6 +218,8 @@ RunResult run_case(const Case& requested, const RunOptions& options, std::ostrea
   const Case& c = sim->config();
 
   create_directories_or_throw(options.output_dir);
+  for (const char* sub : {".", output_files::frames_dir, output_files::probes_dir})
+    remove_stale_temp_files(options.output_dir / sub);
   if (fresh) remove_previous_outputs(options.output_dir, c.name);
   Outputs outputs(*sim, options.output_dir, fresh, wall_before);
 
@@ -187,23 +241,25 @@ RunResult run_case(const Case& requested, const RunOptions& options, std::ostrea
   std::int64_t next_checkpoint =
       checkpoint_interval > 0 ? next_index_after(sim->time(), checkpoint_interval) : std::int64_t{0};
 
-  Progress progress(options.progress, log, sim->time(), c.end_time, result.particles);
+  const double end_time = stop_time(c);
+  Progress progress(options.progress, log, sim->time(), end_time, result.particles);
   const auto loop_start = steady::now();
-  bool frame_is_current = fresh;
-  while (sim->time() < c.end_time) {
+  // A restart's state at the checkpoint time is already on disk (or, at a non-frame time, needs no frame).
+  bool frame_is_current = true;
+  while (sim->time() < end_time) {
     if (options.stop_requested != nullptr && options.stop_requested->load()) {
       result.interrupted = true;
       break;
     }
     const double frame_time = static_cast<double>(next_frame) * interval;
-    double limit = std::min(frame_time, c.end_time);
+    double limit = std::min(frame_time, end_time);
     if (checkpoint_interval > 0)
       limit = std::min(limit, static_cast<double>(next_checkpoint) * checkpoint_interval);
     sim->step(limit);
     ++result.steps_this_run;
     frame_is_current = false;
     outputs.sample_probes(*sim);
-    if (sim->time() >= frame_time || sim->time() >= c.end_time) {
+    if (sim->time() >= frame_time || sim->time() >= end_time) {
       outputs.write_frame(next_frame, *sim, seconds_since(wall_start));
       frame_is_current = true;
       if (sim->time() >= frame_time) ++next_frame;

@@ -7,6 +7,8 @@
 #include <functional>
 #include <optional>
 #include <ostream>
+#include <string>
+#include <vector>
 
 #include "sluice/case/case.hpp"
 #include "sluice/simulation.hpp"
@@ -17,6 +19,9 @@ struct RunOptions {
   std::filesystem::path output_dir;
   int threads = 1;
   std::optional<std::filesystem::path> restart;  // continue from this checkpoint
+  // With a restart: "key=value" changes to the stored case. Only time.end may change (to run on past
+  // the end of the run that wrote the checkpoint); anything else would break the exact continuation.
+  std::vector<std::string> restart_overrides;
   // Progress reporting: "tty" rewrites one line, "lines" prints periodic lines, "none" is quiet.
   enum class Progress { tty, lines, none } progress = Progress::lines;
   const std::atomic<bool>* stop_requested = nullptr;  // set by Ctrl-C: stop after the current step
@@ -47,7 +52,13 @@ inline constexpr const char* summary = "summary.txt";
 }  // namespace output_files
 
 // Runs `c` (ignored when options.restart is set: the checkpoint carries its case). Throws IoError on
-// output failures and FormatError on a bad checkpoint; `log` receives progress and the summary.
+// output failures, FormatError on a bad checkpoint and CaseError on a restart that cannot continue
+// (a forbidden override, or a checkpoint already at the end time); `log` receives progress.
+//
+// A restart continues bit for bit as the run that never stopped would have (same thread count),
+// provided the checkpoint was taken at a time that run also stops at: a periodic checkpoint, a
+// Ctrl-C, or an end time that is a frame time. Frames after the checkpoint are (re)written; earlier
+// frames, diagnostics rows and probe samples on disk are kept.
 RunResult run_case(const Case& c, const RunOptions& options, std::ostream& log);
 
 std::string format_summary(const RunResult& r);

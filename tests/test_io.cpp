@@ -1,0 +1,431 @@
+// The file formats and the atomic writer: NumPy .npz and frames, checkpoints (version and checksum),
+// the ParaView collection, temporary files, and clear errors for damaged input and unwritable output.
+// Our files are also read back by real numpy and meshio in the Python tests (test_outputs.py).
+#include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <csignal>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sluice/case/params.hpp"
+#include "sluice/io/atomic_file.hpp"
+#include "sluice/io/checkpoint.hpp"
+#include "sluice/io/frames.hpp"
+#include "sluice/io/npz.hpp"
+#include "sluice/io/probes.hpp"
+#include "sluice/simulation.hpp"
+
+using namespace sluice;
+namespace fs = std::filesystem;
+
+namespace {
+
+// A fresh, empty directory for one test, removed at the end.
+class TempDir {
+ public:
+  TempDir() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    path_ = fs::temp_directory_path() /
+            fmt::format("sluice_test_io_{}_{}_{}", info->test_suite_name(), info->name(), ::getpid());
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  [[nodiscard]] const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+std::vector<std::string> names_in(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+Frame small_frame() {
+  Frame f;
+  f.time = 0.30000000000000004;
+  f.step = 1234;
+  f.dx = 0.025;
+  f.position = {0.0, 0.5, 1.0, 1.5, -2.0, 2.5};
+  f.velocity = {0.1, -0.2, 0.3, -0.4, 1e-300, -0.0};
+  f.density = {1000.0, 1001.5, 999.25};
+  f.pressure = {0.0, 12.5, -3.75};
+  f.kind = {0, 0, 1};
+  f.id = {0, 1, 2};
+  return f;
+}
+
+Case tiny_case() {
+  return parse_case(R"(
+[case]
+name = "tiny"
+description = "a small tank for the I/O tests"
+[domain]
+dx = 0.1
+[tank]
+width = 1.0
+height = 1.0
+[time]
+end = 1.0
+[[water]]
+min = [0.0, 0.0]
+max = [0.4, 0.6]
+[[probe]]
+name = "p_bottom"
+type = "pressure"
+point = [0.2, 0.1]
+)",
+                    "I/O test case");
+}
+
+template <class F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+}  // namespace
+
+TEST(Npz, RoundTripKeepsNamesShapesDtypesAndValues) {
+  const std::vector<double> d = {1.5, -2.25, 3e-300, 4e300, 0.0, -0.0};
+  const std::vector<std::uint8_t> u8 = {0, 1, 255};
+  const std::vector<std::uint32_t> u32 = {0, 7, 4294967295u};
+  const std::vector<std::int64_t> i64 = {-9000000000000000000LL};
+  const std::string bytes = make_npz({
+      {"matrix", NpyArray::of(d, {3, 2})},
+      {"bytes", NpyArray::of(u8, {3})},
+      {"ids", NpyArray::of(u32, {3})},
+      {"scalar", NpyArray::of(i64, {})},
+  });
+  const auto arrays = parse_npz(bytes);
+  ASSERT_EQ(arrays.size(), 4u);
+  EXPECT_EQ(arrays.at("matrix").dtype, "<f8");
+  EXPECT_EQ(arrays.at("matrix").shape, (std::vector<std::size_t>{3, 2}));
+  EXPECT_EQ(arrays.at("matrix").values<double>(), d);
+  EXPECT_EQ(arrays.at("bytes").dtype, "|u1");
+  EXPECT_EQ(arrays.at("bytes").values<std::uint8_t>(), u8);
+  EXPECT_EQ(arrays.at("ids").dtype, "<u4");
+  EXPECT_EQ(arrays.at("ids").values<std::uint32_t>(), u32);
+  EXPECT_TRUE(arrays.at("scalar").shape.empty());
+  EXPECT_EQ(arrays.at("scalar").values<std::int64_t>(), i64);
+  // Asking for the wrong type is an error, not a reinterpretation.
+  EXPECT_THROW((void)arrays.at("ids").values<double>(), FormatError);
+}
+
+TEST(Npz, NpyHeadersArePaddedSoDataIsAligned) {
+  // NEP 1: the header (magic through newline) is padded to a multiple of 64 bytes.
+  const std::string bytes = make_npz({{"a", NpyArray::of(std::vector<double>{1.0, 2.0}, {2})}});
+  const auto magic = bytes.find("\x93NUMPY");
+  ASSERT_NE(magic, std::string::npos);
+  std::uint16_t header_len = 0;
+  std::memcpy(&header_len, bytes.data() + magic + 8, 2);
+  EXPECT_EQ((10 + header_len) % 64, 0);
+  EXPECT_EQ(bytes[magic + 10 + header_len - 1], '\n');
+  EXPECT_NE(bytes.find("'shape': (2,)"), std::string::npos);
+}
+
+TEST(Frames, NpzRoundTrip) {
+  const Frame f = small_frame();
+  const Frame g = frame_from_npz(frame_to_npz(f), "memory");
+  EXPECT_EQ(g.time, f.time);
+  EXPECT_EQ(g.step, f.step);
+  EXPECT_EQ(g.dx, f.dx);
+  EXPECT_EQ(g.position, f.position);
+  EXPECT_EQ(g.velocity, f.velocity);
+  EXPECT_EQ(g.density, f.density);
+  EXPECT_EQ(g.pressure, f.pressure);
+  EXPECT_EQ(g.kind, f.kind);
+  EXPECT_EQ(g.id, f.id);
+}
+
+TEST(Frames, NpzOfTheSameFrameIsTheSameBytes) {
+  // No timestamps: identical runs write identical files (the restart test relies on it).
+  EXPECT_EQ(frame_to_npz(small_frame()), frame_to_npz(small_frame()));
+}
+
+TEST(Frames, TruncatedNpzIsAClearError) {
+  const std::string bytes = frame_to_npz(small_frame());
+  for (std::size_t keep : {std::size_t{0}, std::size_t{10}, std::size_t{100}, bytes.size() / 2, bytes.size() - 1}) {
+    const std::string message = error_of([&] { frame_from_npz(bytes.substr(0, keep), "frames/f.npz"); });
+    EXPECT_NE(message.find("frames/f.npz: not a sluice frame"), std::string::npos) << keep << ": " << message;
+  }
+}
+
+TEST(Frames, FlippedDataByteIsAChecksumError) {
+  std::string bytes = frame_to_npz(small_frame());
+  // Inside the data of the last array ("id"), just before the central directory.
+  const auto directory = bytes.find("PK\x01\x02");
+  ASSERT_NE(directory, std::string::npos);
+  bytes[directory - 3] = static_cast<char>(bytes[directory - 3] ^ 0x40);
+  const std::string message = error_of([&] { frame_from_npz(bytes, "frames/f.npz"); });
+  EXPECT_NE(message.find("frames/f.npz"), std::string::npos) << message;
+  EXPECT_NE(message.find("id.npy: checksum mismatch"), std::string::npos) << message;
+}
+
+TEST(Frames, EveryFlippedByteIsDetectedOrHarmlessNeverACrash) {
+  const Frame f = small_frame();
+  const std::string good = frame_to_npz(f);
+  int detected = 0;
+  for (std::size_t at = 0; at < good.size(); ++at) {
+    std::string bytes = good;
+    bytes[at] = static_cast<char>(bytes[at] ^ 0xFF);
+    try {
+      const Frame g = frame_from_npz(bytes, "f.npz");
+      // Only bytes that carry no data (zip dates, versions, attributes) may go unnoticed: never wrong values.
+      EXPECT_EQ(g.time, f.time) << at;
+      EXPECT_EQ(g.step, f.step) << at;
+      EXPECT_EQ(g.dx, f.dx) << at;
+      EXPECT_EQ(g.position, f.position) << at;
+      EXPECT_EQ(g.velocity, f.velocity) << at;
+      EXPECT_EQ(g.density, f.density) << at;
+      EXPECT_EQ(g.pressure, f.pressure) << at;
+      EXPECT_EQ(g.kind, f.kind) << at;
+      EXPECT_EQ(g.id, f.id) << at;
+    } catch (const FormatError& e) {
+      EXPECT_NE(std::string(e.what()).find("f.npz: not a sluice frame"), std::string::npos) << e.what();
+      ++detected;
+    }
+  }
+  // Everything inside the arrays (headers and data) is covered by the zip CRC-32s: most of the file.
+  EXPECT_GT(detected, static_cast<int>(good.size() * 3 / 4));
+}
+
+TEST(Frames, VtuDeclaresEveryFieldAndItsAppendedBlocksFit) {
+  const Frame f = small_frame();
+  const std::string vtu = frame_to_vtu(f);
+  for (const char* name : {"velocity", "density", "pressure", "kind", "id", "Points", "connectivity", "offsets", "types"})
+    EXPECT_NE(vtu.find(fmt::format("Name=\"{}\"", name)), std::string::npos) << name;
+  EXPECT_NE(vtu.find("NumberOfPoints=\"3\""), std::string::npos);
+  EXPECT_NE(vtu.find("<AppendedData encoding=\"raw\">"), std::string::npos);
+  // The last block (cell types, UInt8) ends right before the closing of AppendedData.
+  const auto start = vtu.find('_', vtu.find("<AppendedData")) + 1;
+  const auto end = vtu.rfind("\n  </AppendedData>");
+  std::size_t at = start, blocks = 0;
+  while (at < end) {
+    std::uint64_t size = 0;
+    std::memcpy(&size, vtu.data() + at, sizeof size);
+    at += sizeof size + size;
+    ++blocks;
+  }
+  EXPECT_EQ(at, end);
+  EXPECT_EQ(blocks, 9u);
+}
+
+TEST(Frames, PvdListsEachFrameWithItsTime) {
+  const std::string pvd = pvd_text({{0.0, "frames/frame_000000.vtu"}, {0.30000000000000004, "frames/frame_000003.vtu"}});
+  EXPECT_NE(pvd.find("<VTKFile type=\"Collection\""), std::string::npos);
+  EXPECT_NE(pvd.find("<DataSet timestep=\"0\" group=\"\" part=\"0\" file=\"frames/frame_000000.vtu\"/>"),
+            std::string::npos)
+      << pvd;
+  // Times are written exactly (shortest round-trip form), so they match the frames' own times.
+  EXPECT_NE(pvd.find("timestep=\"0.30000000000000004\" group=\"\" part=\"0\" file=\"frames/frame_000003.vtu\""),
+            std::string::npos)
+      << pvd;
+}
+
+class CheckpointFile : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    sim_ = std::make_unique<Simulation>(tiny_case(), 1);
+    for (int i = 0; i < 25; ++i) sim_->step();  // a state that is not the initial one (reordered, moving)
+    bytes_ = checkpoint_bytes(*sim_, 12.5);
+  }
+  std::unique_ptr<Simulation> sim_;
+  std::string bytes_;
+};
+
+TEST_F(CheckpointFile, RoundTripRestoresTheExactState) {
+  const Checkpoint cp = parse_checkpoint(bytes_, "checkpoint.bin");
+  const Particles<2>& p = sim_->particles();
+  EXPECT_EQ(case_template(cp.config), case_template(sim_->config()));
+  EXPECT_EQ(cp.clock.time, sim_->clock().time);
+  EXPECT_EQ(cp.clock.step, 25);
+  EXPECT_EQ(cp.clock.last_dt, sim_->clock().last_dt);
+  EXPECT_EQ(cp.clock.leaks, sim_->clock().leaks);
+  EXPECT_EQ(cp.wall_seconds, 12.5);
+  ASSERT_EQ(cp.particles.size(), p.size());
+  for (int d = 0; d < 2; ++d) {
+    EXPECT_EQ(cp.particles.position[d], p.position[d]);
+    EXPECT_EQ(cp.particles.velocity[d], p.velocity[d]);
+  }
+  EXPECT_EQ(cp.particles.density, p.density);
+  EXPECT_EQ(cp.particles.kind, p.kind);
+  EXPECT_EQ(cp.particles.id, p.id);
+  EXPECT_EQ(cp.particles.needs_density_repair, p.needs_density_repair);
+}
+
+TEST_F(CheckpointFile, ContinuingFromItIsBitForBitTheSame) {
+  Checkpoint cp = parse_checkpoint(bytes_, "checkpoint.bin");
+  Simulation resumed(cp.config, std::move(cp.particles), cp.clock, 1);
+  for (int i = 0; i < 30; ++i) {
+    sim_->step();
+    resumed.step();
+  }
+  EXPECT_EQ(resumed.clock().time, sim_->clock().time);
+  EXPECT_EQ(resumed.particles().id, sim_->particles().id);
+  EXPECT_EQ(resumed.particles().position[0], sim_->particles().position[0]);
+  EXPECT_EQ(resumed.particles().position[1], sim_->particles().position[1]);
+  EXPECT_EQ(resumed.particles().velocity[1], sim_->particles().velocity[1]);
+  EXPECT_EQ(resumed.particles().density, sim_->particles().density);
+}
+
+TEST_F(CheckpointFile, AFlippedByteIsAChecksumMismatch) {
+  for (std::size_t at : {bytes_.size() / 3, bytes_.size() / 2, bytes_.size() - 10, bytes_.size() - 1}) {
+    std::string bad = bytes_;
+    bad[at] = static_cast<char>(bad[at] ^ 0x01);
+    const std::string message = error_of([&] { parse_checkpoint(bad, "out/run/checkpoint.bin"); });
+    EXPECT_NE(message.find("out/run/checkpoint.bin: not a usable checkpoint: checksum mismatch"), std::string::npos)
+        << at << ": " << message;
+  }
+}
+
+TEST_F(CheckpointFile, AnotherFormatVersionNamesBothVersions) {
+  std::string other = bytes_;
+  const std::uint32_t version = checkpoint_format_version + 1;
+  std::memcpy(other.data() + 8, &version, sizeof version);
+  const std::string message = error_of([&] { parse_checkpoint(other, "old.bin"); });
+  EXPECT_NE(message.find("old.bin"), std::string::npos) << message;
+  EXPECT_NE(message.find(fmt::format("format version {}, this sluice reads version {}", version,
+                                     checkpoint_format_version)),
+            std::string::npos)
+      << message;
+}
+
+TEST_F(CheckpointFile, TruncatedOrForeignFilesAreClearErrors) {
+  for (std::size_t keep : {bytes_.size() - 1, bytes_.size() / 2, std::size_t{100}}) {
+    const std::string message = error_of([&] { parse_checkpoint(bytes_.substr(0, keep), "c.bin"); });
+    EXPECT_NE(message.find("c.bin: not a usable checkpoint: checksum mismatch (the file is damaged or incomplete)"),
+              std::string::npos)
+        << keep << ": " << message;
+  }
+  for (const std::string& junk : {std::string(), std::string("SLUICE"), std::string("time,step\n0,0\n1,2\n3,4\n")}) {
+    const std::string message = error_of([&] { parse_checkpoint(junk, "c.bin"); });
+    EXPECT_NE(message.find("c.bin: not a usable checkpoint: it does not start with the sluice checkpoint signature"),
+              std::string::npos)
+        << message;
+  }
+}
+
+TEST_F(CheckpointFile, WrittenAtomicallyAndReadBack) {
+  TempDir dir;
+  const fs::path path = dir.path() / "checkpoint.bin";
+  write_checkpoint(path, *sim_, 12.5);
+  EXPECT_EQ(names_in(dir.path()), std::vector<std::string>{"checkpoint.bin"});
+  EXPECT_EQ(read_file(path), bytes_);
+  EXPECT_EQ(read_checkpoint(path).clock.step, 25);
+  const std::string missing = error_of([&] { read_checkpoint(dir.path() / "nope.bin"); });
+  EXPECT_NE(missing.find("nope.bin: no such file"), std::string::npos) << missing;
+}
+
+TEST(AtomicFile, TheFinalNameAppearsOnlyOnCommit) {
+  TempDir dir;
+  const fs::path path = dir.path() / "out.txt";
+  {
+    AtomicFile f(path);
+    f.write("hello");
+    EXPECT_FALSE(fs::exists(path));
+    const auto names = names_in(dir.path());
+    ASSERT_EQ(names.size(), 1u);
+    EXPECT_EQ(names[0], fmt::format("out.txt.tmp{}", ::getpid()));
+    f.commit();
+  }
+  EXPECT_EQ(names_in(dir.path()), std::vector<std::string>{"out.txt"});
+  EXPECT_EQ(read_file(path), "hello");
+  write_file_atomic(path, "replaced");
+  EXPECT_EQ(read_file(path), "replaced");
+}
+
+TEST(AtomicFile, AnAbandonedFileLeavesNothingBehind) {
+  TempDir dir;
+  write_file_atomic(dir.path() / "keep.txt", "old");
+  {
+    AtomicFile f(dir.path() / "keep.txt");
+    f.write("new but never committed");
+  }
+  EXPECT_EQ(names_in(dir.path()), std::vector<std::string>{"keep.txt"});
+  EXPECT_EQ(read_file(dir.path() / "keep.txt"), "old");
+}
+
+TEST(AtomicFile, AnUnwritableDirectoryIsAnIoErrorNamingThePath) {
+  TempDir dir;
+  write_file_atomic(dir.path() / "a_file", "x");
+  // Tests may run as root, for whom permissions do not block: use paths no one can create files in.
+  for (const fs::path& path : {fs::path("/proc/sluice_no_such_dir/frame.npz"), dir.path() / "a_file" / "frame.npz"}) {
+    try {
+      write_file_atomic(path, "data");
+      ADD_FAILURE() << "no error writing " << path;
+    } catch (const IoError& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find(path.string() + ": cannot create ("), std::string::npos) << message;
+    }
+  }
+  const std::string message = error_of([&] { create_directories_or_throw(dir.path() / "a_file" / "sub"); });
+  EXPECT_NE(message.find("a_file/sub: cannot create directory"), std::string::npos) << message;
+}
+
+TEST(AtomicFile, AFullDiskIsAnIoErrorAndLeavesNoFile) {
+  // A file-size limit makes writes fail with EFBIG, as a full disk fails them with ENOSPC.
+  TempDir dir;
+  std::signal(SIGXFSZ, SIG_IGN);
+  rlimit old{};
+  ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &old), 0);
+  rlimit limited = old;
+  limited.rlim_cur = 4096;
+  ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &limited), 0);
+  const std::string message = error_of([&] { write_file_atomic(dir.path() / "big.bin", std::string(100000, 'x')); });
+  ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &old), 0);
+  EXPECT_NE(message.find("big.bin: cannot write (File too large)"), std::string::npos) << message;
+  EXPECT_TRUE(names_in(dir.path()).empty());
+}
+
+TEST(AtomicFile, StaleTemporaryFilesOfDeadProcessesAreRemoved) {
+  TempDir dir;
+  const fs::path d = dir.path();
+  // pid 999999999 is above any pid Linux hands out (pid_max <= 2^22).
+  for (const std::string& name : std::vector<std::string>{"frame_000001.npz.tmp999999999", "diagnostics.csv.tmp999999998",
+                                                          fmt::format("mine.csv.tmp{}", ::getpid()), "notes.tmpx",
+                                                          "data.tmp", "frame.npz"})
+    write_file_atomic(d / name, "x");
+  EXPECT_EQ(remove_stale_temp_files(d), 2u);
+  EXPECT_EQ(names_in(d), (std::vector<std::string>{"data.tmp", "frame.npz", fmt::format("mine.csv.tmp{}", ::getpid()),
+                                                   "notes.tmpx"}));
+  EXPECT_EQ(remove_stale_temp_files(d / "no_such_dir"), 0u);
+}
+
+TEST(Probes, CsvRowsUntilKeepsTheHeaderAndEarlierRows) {
+  const std::string csv = "time,height\n0,1\n0.1,1.5\n0.2,2\n0.30000000000000004,2.5\n";
+  EXPECT_EQ(csv_rows_until(csv, 0.2), "time,height\n0,1\n0.1,1.5\n0.2,2\n");
+  EXPECT_EQ(csv_rows_until(csv, 0.0), "time,height\n0,1\n");
+  EXPECT_EQ(csv_rows_until(csv, 10.0), csv);
+  // A damaged last row (cut off by a crash in an older version) ends the kept rows.
+  EXPECT_EQ(csv_rows_until("time,height\n0,1\nx\n0.2,2\n", 1.0), "time,height\n0,1\n");
+}
+
+TEST(Probes, HeadersNameTheColumns) {
+  Probe p;
+  p.type = "pressure";
+  EXPECT_EQ(probe_header(p), "time,pressure,neighbours");
+  p.type = "gauge";
+  EXPECT_EQ(probe_header(p), "time,height");
+  p.type = "front";
+  EXPECT_EQ(probe_header(p), "time,distance,x,y");
+}
