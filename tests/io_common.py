@@ -70,7 +70,8 @@ NPZ_ARRAYS = {  # name -> (dtype, shape with N for the particle count)
 }
 
 DIAGNOSTICS_COLUMNS = ["time", "step", "dt", "max_speed", "min_density", "max_density", "kinetic_energy",
-                       "potential_energy", "total_energy", "total_mass", "leaks", "wall_time"]
+                       "potential_energy", "total_energy", "total_mass", "leaks", "min_particle_distance",
+                       "wall_time"]
 
 # Threads per run. One by default: tests run side by side (ctest -j) on shared cores, where OpenMP
 # threads that wait for each other slow a run down many times. test_restart.py also uses two.

@@ -39,7 +39,7 @@ struct Diagnostics {
   double total_mass = 0.0;       // fluid
   std::int64_t leaks = 0;
   bool all_finite = true;
-  double min_particle_distance = 0.0;  // fluid to any particle, at the last force evaluation
+  double min_particle_distance = 0.0;  // fluid to any particle, at the last step's first evaluation (NaN before)
 };
 
 // A particle that makes a run unusable: non-finite, far outside the tank, or at an absurd density.
@@ -109,7 +109,7 @@ class Simulation {
   ParticleTerms terms_;
   std::vector<double> scratch_;
   Clock clock_;
-  double min_particle_distance_ = 0.0;
+  double min_particle_distance_ = std::numeric_limits<double>::quiet_NaN();  // unknown before the first step
   Particles<2> saved_particles_;
   Clock saved_clock_;
   bool predictor_corrector_ = true;

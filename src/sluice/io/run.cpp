@@ -82,7 +82,7 @@ class Outputs {
     write_vtk_ = std::find(c.output_formats.begin(), c.output_formats.end(), "vtk") != c.output_formats.end();
     create_directories_or_throw(dir_ / output_files::frames_dir);
     diagnostics_ = "time,step,dt,max_speed,min_density,max_density,kinetic_energy,potential_energy,total_energy,"
-                   "total_mass,leaks,wall_time\n";
+                   "total_mass,leaks,min_particle_distance,wall_time\n";
     if (!fresh) {
       // Frames 0..K at the regular times up to the checkpoint were written before it and are kept,
       // with their diagnostics rows. A frame written at the checkpoint time when that was not a
@@ -116,10 +116,10 @@ class Outputs {
       write_file_atomic(dir_ / (name_ + ".pvd"), pvd_text(entries));
     }
     const Diagnostics d = sim.diagnostics();
-    diagnostics_ += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{:.3f}\n", d.time, d.step, d.dt, d.max_speed,
+    diagnostics_ += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{:.3f}\n", d.time, d.step, d.dt, d.max_speed,
                                 d.min_density, d.max_density, d.kinetic_energy, d.potential_energy,
                                 d.kinetic_energy + d.potential_energy, d.total_mass, d.leaks,
-                                wall_before_ + wall_seconds);
+                                d.min_particle_distance, wall_before_ + wall_seconds);
     write_file_atomic(dir_ / output_files::diagnostics, diagnostics_);
     probes_.flush();
     ++frames_written_;
@@ -185,6 +185,28 @@ class Progress {
 };
 
 }  // namespace
+
+std::string describe_instability(const std::string& failure, const Health& health, double time, std::int64_t step,
+                                 const Simulation& good, std::int64_t frame, const std::filesystem::path& dir) {
+  std::string m = fmt::format("the run became unstable at t = {:.6g} s (step {}): ", time, step);
+  if (!failure.empty()) {
+    m += failure + "\n";
+  } else {
+    m += fmt::format("{} particle{} bad; the first:\n", health.offending, health.offending == 1 ? " is" : "s are");
+    for (const Offender& o : health.first)
+      m += fmt::format("  id {} at ({:.4g}, {:.4g}) m, velocity ({:.4g}, {:.4g}) m/s, density {:.6g} kg/m^3, {} "
+                       "neighbours: {}\n",
+                       o.id, o.position[0], o.position[1], o.velocity[0], o.velocity[1], o.density, o.neighbours,
+                       o.reason);
+  }
+  m += fmt::format("The last good state (t = {:.6g} s, step {}) is saved as {}/frame_{:06} and {} in {}.\n",
+                   good.time(), good.clock().step, output_files::frames_dir, frame, output_files::checkpoint,
+                   dir.string());
+  m += "Usual causes: a time step above the stability limit (time.dt; keep time.dt = 0 for the adaptive step, "
+       "or lower time.cfl), too little damping (physics.artificial_viscosity), or a sound speed "
+       "(fluid.sound_speed) too low for the flow speeds.";
+  return m;
+}
 
 RunResult run_case(const Case& requested, const RunOptions& options, std::ostream& log) {
   const auto wall_start = steady::now();
@@ -255,7 +277,26 @@ RunResult run_case(const Case& requested, const RunOptions& options, std::ostrea
     double limit = std::min(frame_time, end_time);
     if (checkpoint_interval > 0)
       limit = std::min(limit, static_cast<double>(next_checkpoint) * checkpoint_interval);
-    sim->step(limit);
+    // The instability guard: keep the state before the step; if the step leaves any particle
+    // non-finite, far outside the tank or at an absurd density, save that last good state and stop.
+    sim->save_state();
+    std::string failure;
+    try {
+      sim->step(limit);
+    } catch (const std::runtime_error& e) {
+      failure = e.what();
+    }
+    const Health health = failure.empty() ? sim->check_health() : Health{};
+    if (!failure.empty() || !health.ok()) {
+      const double bad_time = sim->time();
+      const std::int64_t bad_step = sim->clock().step;
+      sim->restore_saved_state();
+      outputs.write_frame(next_frame, *sim, seconds_since(wall_start));
+      outputs.write_checkpoint_file(*sim, seconds_since(wall_start));
+      progress.finish();
+      throw InstabilityError(describe_instability(failure, health, bad_time, bad_step, *sim, next_frame,
+                                                  options.output_dir));
+    }
     ++result.steps_this_run;
     frame_is_current = false;
     outputs.sample_probes(*sim);
@@ -279,6 +320,7 @@ RunResult run_case(const Case& requested, const RunOptions& options, std::ostrea
 
   result.wall_seconds = seconds_since(wall_start);
   const double loop_seconds = seconds_since(loop_start);
+  result.loop_seconds = loop_seconds;
   result.particle_steps_per_second =
       loop_seconds > 0 ? static_cast<double>(result.particles) * static_cast<double>(result.steps_this_run) / loop_seconds : 0.0;
   result.final = sim->diagnostics();
@@ -296,7 +338,10 @@ std::string format_summary(const RunResult& r) {
   s += fmt::format("  steps       {} ({} force evaluation{} per step), {} in this run\n", d.step,
                    r.force_evaluations_per_step, r.force_evaluations_per_step == 1 ? "" : "s", r.steps_this_run);
   s += fmt::format("  wall time   {:.2f} s for this run\n", r.wall_seconds);
-  s += fmt::format("  speed       {:.2f} M particle-steps/s\n", r.particle_steps_per_second * 1e-6);
+  s += fmt::format("  loop time   {:.3f} s stepping (without set-up and final output)\n", r.loop_seconds);
+  s += fmt::format("  speed       {:.2f} M particle-steps/s, {:.2f} M particle-evaluations/s\n",
+                   r.particle_steps_per_second * 1e-6,
+                   r.particle_steps_per_second * r.force_evaluations_per_step * 1e-6);
   s += fmt::format("  leaks       {} (fluid particles put back from inside a wall)\n", d.leaks);
   s += fmt::format("  density     min {:.2f}, max {:.2f} kg/m^3 (rho0 = {})\n", d.min_density, d.max_density,
                    r.rest_density);

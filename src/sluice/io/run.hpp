@@ -7,6 +7,7 @@
 #include <functional>
 #include <optional>
 #include <ostream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -27,12 +28,20 @@ struct RunOptions {
   const std::atomic<bool>* stop_requested = nullptr;  // set by Ctrl-C: stop after the current step
 };
 
+// The run went unstable (non-finite values, particles far outside the tank, absurd densities). The
+// message names the time, the step and the first offending particles, and where the last good state
+// was saved.
+struct InstabilityError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 struct RunResult {
   Diagnostics final;
   std::size_t particles = 0;
   std::int64_t steps_this_run = 0;
   int force_evaluations_per_step = 1;
   double wall_seconds = 0.0;          // this run (not counting time before a restart)
+  double loop_seconds = 0.0;          // the stepping loop of this run
   double particle_steps_per_second = 0.0;
   int frames_written = 0;
   bool interrupted = false;
