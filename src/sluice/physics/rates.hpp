@@ -5,6 +5,9 @@
 
 #include "sluice/core/parallel.hpp"
 #include <algorithm>
+#if defined(__AVX512F__)
+#include <immintrin.h>
+#endif
 #include <cmath>
 #include <vector>
 
@@ -70,27 +73,67 @@ struct RateSummary {
   double min_fluid_distance = 0.0;  // smallest distance from a fluid particle to any other (clumping)
 };
 
-// Collects the neighbours j != i within the kernel support of particle i (at x_i) into `list` and
-// returns how many. Branch-free: every candidate is written, only neighbours advance the count.
+// The neighbours of one particle: indices j and the separations x_i - x_j, gathered once by the
+// cell search so that the pair loop reads them contiguously.
 template <int Dim>
-std::uint32_t collect_neighbors(const CellGrid<Dim>& grid, std::uint32_t cell, const std::array<double, Dim>& xi,
-                                const std::array<const double*, Dim>& x, double support2, double min_r2,
-                                std::vector<std::uint32_t>& list) {
+struct NeighborList {
+  std::vector<std::uint32_t> index;
+  std::array<std::vector<double>, Dim> separation;
+  std::uint32_t count = 0;
+
+  void reserve(std::size_t n) {
+    if (index.size() >= n) return;
+    index.resize(2 * n);
+    for (auto& s : separation) s.resize(2 * n);
+  }
+};
+
+// Collects the neighbours j != i within the kernel support of particle i (at x_i). Candidates of a
+// cell row are consecutive indices; the portable loop is branch-free (every candidate is written, only
+// neighbours advance the count), and with AVX-512 eight candidates are tested at once and the
+// neighbours compress-stored, which is where explicit SIMD pays: this search is half the pair work.
+template <int Dim>
+void collect_neighbors(const CellGrid<Dim>& grid, std::uint32_t cell, const std::array<double, Dim>& xi,
+                       const std::array<const double*, Dim>& x, double support2, double min_r2,
+                       NeighborList<Dim>& list) {
   std::uint32_t count = 0;
   grid.for_each_neighbor_range(cell, [&](std::uint32_t begin, std::uint32_t end) {
-    if (list.size() < count + (end - begin)) list.resize(2 * (count + (end - begin)));
-    std::uint32_t* out = list.data();
-    for (std::uint32_t j = begin; j < end; ++j) {
+    list.reserve(count + (end - begin) + 8);
+    std::uint32_t* __restrict out = list.index.data();
+    std::array<double*, Dim> sep{};
+    for (int d = 0; d < Dim; ++d) sep[d] = list.separation[d].data();
+    std::uint32_t j = begin;
+#if defined(__AVX512F__) && defined(__AVX512VL__)
+    if constexpr (Dim == 2) {
+      const __m512d xi0 = _mm512_set1_pd(xi[0]), xi1 = _mm512_set1_pd(xi[1]);
+      const __m512d upper = _mm512_set1_pd(support2), lower = _mm512_set1_pd(min_r2);
+      const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+      for (; j < end; j += 8) {
+        const __mmask8 valid = end - j >= 8 ? __mmask8(0xFF) : __mmask8((1u << (end - j)) - 1u);
+        const __m512d dx = _mm512_sub_pd(xi0, _mm512_maskz_loadu_pd(valid, x[0] + j));
+        const __m512d dy = _mm512_sub_pd(xi1, _mm512_maskz_loadu_pd(valid, x[1] + j));
+        const __m512d r2 = _mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy));
+        const __mmask8 hit = valid & _mm512_cmp_pd_mask(r2, upper, _CMP_LT_OQ) & _mm512_cmp_pd_mask(r2, lower, _CMP_GT_OQ);
+        _mm256_mask_compressstoreu_epi32(out + count, hit, _mm256_add_epi32(_mm256_set1_epi32(static_cast<int>(j)), lane));
+        _mm512_mask_compressstoreu_pd(sep[0] + count, hit, dx);
+        _mm512_mask_compressstoreu_pd(sep[1] + count, hit, dy);
+        count += static_cast<std::uint32_t>(__builtin_popcount(hit));
+      }
+      return;
+    }
+#endif
+    for (; j < end; ++j) {
       double r2 = 0.0;
       for (int d = 0; d < Dim; ++d) {
         const double dx = xi[d] - x[d][j];
+        sep[d][count] = dx;
         r2 += dx * dx;
       }
       out[count] = j;
       count += static_cast<std::uint32_t>((r2 < support2) & (r2 > min_r2));
     }
   });
-  return count;
+  list.count = count;
 }
 
 // Fills p.acceleration (fluid) and p.density_rate (all particles).
@@ -122,9 +165,6 @@ RateSummary compute_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const Ke
   std::array<const double*, Dim> x{};
   for (int d = 0; d < Dim; ++d) x[d] = p.position[d].data();
   // Component pointers; unused dimensions point at x, and are never read.
-  const double* __restrict x0 = p.position[0].data();
-  const double* __restrict x1 = p.position[Dim > 1 ? 1 : 0].data();
-  const double* __restrict x2 = p.position[Dim > 2 ? 2 : 0].data();
   const double* __restrict v0 = p.velocity[0].data();
   const double* __restrict v1 = p.velocity[Dim > 1 ? 1 : 0].data();
   const double* __restrict v2 = p.velocity[Dim > 2 ? 2 : 0].data();
@@ -142,29 +182,48 @@ RateSummary compute_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const Ke
   double max_rho = 0.0;
   double closest2 = support2;
 
+  // Fluid particles before each sorted index: a wall particle with no fluid in its neighbouring
+  // cells has a zero density rate (wall-wall pairs have v_ij = 0) and is skipped.
+  std::vector<std::uint32_t> fluid_before(static_cast<std::size_t>(n) + 1, 0);
+  for (long i = 0; i < n; ++i) fluid_before[i + 1] = fluid_before[i] + (fluid_mask[i] != 0.0);
+
 #pragma omp parallel num_threads(threads)
   {
-    std::vector<std::uint32_t> neighbors(512);
+    NeighborList<Dim> neighbors;
+    neighbors.reserve(512);
 #pragma omp for schedule(dynamic, 256) reduction(max : max_accel2, max_vij2, max_rho) reduction(min : closest2)
     for (long i = 0; i < n; ++i) {
       max_rho = std::max(max_rho, rho[i]);
       std::array<double, Dim> xi{};
       for (int d = 0; d < Dim; ++d) xi[d] = x[d][i];
-      const double xi0 = x0[i], xi1 = Dim > 1 ? x1[i] : 0.0, xi2 = Dim > 2 ? x2[i] : 0.0;
       const double vi0 = v0[i], vi1 = Dim > 1 ? v1[i] : 0.0, vi2 = Dim > 2 ? v2[i] : 0.0;
       const double rho_i = rho[i];
-      const std::uint32_t count = collect_neighbors<Dim>(grid, cell_of[i], xi, x, support2, min_r2, neighbors);
-      const std::uint32_t* __restrict list = neighbors.data();
       double drho = 0.0;
+      if (fluid_mask[i] == 0.0) {
+        bool near_fluid = false;
+        grid.for_each_neighbor_range(cell_of[i], [&](std::uint32_t begin, std::uint32_t end) {
+          near_fluid = near_fluid || fluid_before[end] > fluid_before[begin];
+        });
+        if (!near_fluid) {
+          density_rate[i] = 0.0;
+          continue;
+        }
+      }
+      collect_neighbors<Dim>(grid, cell_of[i], xi, x, support2, min_r2, neighbors);
+      const std::uint32_t count = neighbors.count;
+      const std::uint32_t* __restrict list = neighbors.index.data();
+      const double* __restrict sep0 = neighbors.separation[0].data();
+      const double* __restrict sep1 = neighbors.separation[Dim > 1 ? 1 : 0].data();
+      const double* __restrict sep2 = neighbors.separation[Dim > 2 ? 2 : 0].data();
 
       if (fluid_mask[i] == 0.0) {
         // Wall particle: fixed, its density evolves by continuity with the fluid around it.
 #pragma omp simd reduction(+ : drho)
         for (std::uint32_t k = 0; k < count; ++k) {
           const std::uint32_t j = list[k];
-          const double dx0 = xi0 - x0[j];
-          const double dx1 = Dim > 1 ? xi1 - x1[j] : 0.0;
-          const double dx2 = Dim > 2 ? xi2 - x2[j] : 0.0;
+          const double dx0 = sep0[k];
+          const double dx1 = Dim > 1 ? sep1[k] : 0.0;
+          const double dx2 = Dim > 2 ? sep2[k] : 0.0;
           const double r = std::sqrt(dx0 * dx0 + dx1 * dx1 + dx2 * dx2);
           const double v_dot_r = (vi0 - v0[j]) * dx0 + (Dim > 1 ? (vi1 - v1[j]) * dx1 : 0.0) +
                                  (Dim > 2 ? (vi2 - v2[j]) * dx2 : 0.0);
@@ -184,9 +243,9 @@ RateSummary compute_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const Ke
 #pragma omp simd reduction(+ : acc0, acc1, acc2, drho) reduction(max : vij2_max) reduction(min : r2_min)
       for (std::uint32_t k = 0; k < count; ++k) {
         const std::uint32_t j = list[k];
-        const double dx0 = xi0 - x0[j];
-        const double dx1 = Dim > 1 ? xi1 - x1[j] : 0.0;
-        const double dx2 = Dim > 2 ? xi2 - x2[j] : 0.0;
+        const double dx0 = sep0[k];
+        const double dx1 = Dim > 1 ? sep1[k] : 0.0;
+        const double dx2 = Dim > 2 ? sep2[k] : 0.0;
         const double vij0 = vi0 - v0[j];
         const double vij1 = Dim > 1 ? vi1 - v1[j] : 0.0;
         const double vij2 = Dim > 2 ? vi2 - v2[j] : 0.0;
@@ -205,11 +264,12 @@ RateSummary compute_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const Ke
           for (int e = 0; e < ap_n; ++e) f_n *= f;
           along_e += pair::artificial_pressure(m, tension_i, tension[j], f_n, dW);
         }
-        const double along_v = pair::laminar_viscosity(mu, m, ir2_i, inv_rho2[j], dW, inv_r);
+        const double inv_rho_j = inv_rho[j];
+        const double along_v = pair::laminar_viscosity(mu, m, ir2_i, inv_rho_j * inv_rho_j, dW, inv_r);
         const double drho_hydro = -0.5 * (k_i + hydro_k[j]) * g_dot_r;  // rho_j^H - rho_i^H
         drho += pair::continuity(m, dW, v_dot_r * inv_r) +
                 fluid_mask[j] *
-                    pair::density_diffusion(delta_h_c0, m, rho_i, rho[j], drho_hydro, dW, inv_r, inv_rho[j]);
+                    pair::density_diffusion(delta_h_c0, m, rho_i, rho[j], drho_hydro, dW, inv_r, inv_rho_j);
         const double e_factor = along_e * inv_r;
         acc0 += e_factor * dx0 + along_v * vij0;
         acc1 += e_factor * dx1 + along_v * vij1;
