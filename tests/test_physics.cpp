@@ -28,7 +28,7 @@ class Hydrostatic : public ::testing::TestWithParam<std::pair<std::string, doubl
 TEST_P(Hydrostatic, StillWaterStaysAtRestWithHydrostaticPressure) {
   const double depth = 1.0, dx = 0.025, g = 9.81;
   const auto [integrator, cfl] = GetParam();
-  Simulation sim(test_cases::hydrostatic_tank(1.0, depth, dx, integrator, cfl), 2);
+  Simulation sim(test_cases::hydrostatic_tank(1.0, depth, dx, integrator, cfl), 1);
   const double t_ref = std::sqrt(depth / g);
   const double end = 6.0 * t_ref;
   double worst_speed = 0.0;
@@ -75,7 +75,7 @@ max = [5.0, 8.0]
 )",
                       "free fall");
   c.hydrostatic_start = false;
-  Simulation sim(c, 2);
+  Simulation sim(c, 1);
   const auto momentum = [&](int d) {
     const auto& p = sim.particles();
     double s = 0.0;
@@ -101,7 +101,7 @@ TEST_P(DefaultCaseInvariants, HoldForTheWholeRun) {
   Case c = *load_builtin_case("dam_break");
   apply_override(c, "domain.dx=0.4");
   apply_override(c, "time.integrator=" + GetParam());
-  Simulation sim(c, 2);
+  Simulation sim(c, 1);
   const std::size_t fluid = sim.diagnostics().fluid_particles;
   const double rho0 = c.rest_density;
   std::int64_t checks = 0;
@@ -151,7 +151,7 @@ TEST(ArtificialPressure, KeepsParticlesApartInTheTensionCase) {
     Case c = *load_builtin_case("tension");
     apply_override(c, "domain.dx=0.04");
     apply_override(c, "physics.artificial_pressure=" + std::to_string(epsilon));
-    Simulation sim(c, 2);
+    Simulation sim(c, 1);
     double closest = 1e9;
     while (sim.time() < c.end_time) {
       sim.step(c.end_time);
@@ -171,7 +171,7 @@ TEST(ArtificialPressure, KeepsParticlesApartInTheTensionCase) {
 TEST(Beach, RunsToItsEndWithoutLeaksAndWithTheInvariants) {
   Case c = *load_builtin_case("beach");
   apply_override(c, "domain.dx=0.4");
-  Simulation sim(c, 2);
+  Simulation sim(c, 1);
   const std::size_t fluid = sim.diagnostics().fluid_particles;
   while (sim.time() < c.end_time) {
     sim.step(c.end_time);
