@@ -16,6 +16,7 @@ namespace sluice {
 Simulation::Simulation(const Case& c, int threads) : threads_(std::max(1, threads)) {
   Setup s = build_setup(c);
   particles_ = std::move(s.particles);
+  particles_.resize(particles_.size());  // size the rate and step-start fields
   solids_ = std::move(s.solids);
   removed_near_coincident_ = s.removed_near_coincident;
   init(c);
@@ -85,8 +86,10 @@ double Simulation::choose_dt(const RateSummary& r) const {
 
 void Simulation::step(double time_limit) {
   const bool shepard_due = case_.shepard_every > 0 && clock_.step > 0 && clock_.step % case_.shepard_every == 0;
+  has_saved_state_ = false;
   const RateSummary rates = evaluate(shepard_due, false);
   min_particle_distance_ = rates.min_fluid_distance;
+  saved_clock_ = clock_;
   double dt = choose_dt(rates);
   if (!(dt > 0.0) || !std::isfinite(dt))
     throw std::runtime_error(fmt::format("time step {} at t = {} s is not a positive finite number", dt, clock_.time));
@@ -96,9 +99,14 @@ void Simulation::step(double time_limit) {
   const double floor = settings_.eos.rest_density;
   if (predictor_corrector_) {
     predictor_update(particles_, dt, floor, threads_);
+    has_saved_state_ = true;
     evaluate(false, true);
     corrector_update(particles_, dt, floor, threads_);
   } else {
+    particles_.position_start = particles_.position;
+    particles_.velocity_start = particles_.velocity;
+    particles_.density_start = particles_.density;
+    has_saved_state_ = true;
     euler_update(particles_, dt, floor, threads_);
   }
   clock_.leaks += static_cast<std::int64_t>(put_back_leaked(particles_, solids_, case_.dx, threads_));
@@ -191,28 +199,16 @@ Health Simulation::check_health(std::size_t max_reported) const {
   return health;
 }
 
-void Simulation::save_state() {
-  Particles<2>& s = saved_particles_;
-  const Particles<2>& p = particles_;
-  s.position = p.position;
-  s.velocity = p.velocity;
-  s.density = p.density;
-  s.kind = p.kind;
-  s.id = p.id;
-  s.needs_density_repair = p.needs_density_repair;
-  saved_clock_ = clock_;
-}
-
+// The state at the start of the step (after the reordering of its first evaluation) lives in the
+// step-start arrays, which the predictor-corrector fills anyway; forward Euler does not use them, so
+// step() fills them there too. No extra memory; restore_saved_state() copies them back.
 void Simulation::restore_saved_state() {
+  if (!has_saved_state_) return;
   Particles<2>& p = particles_;
-  const Particles<2>& s = saved_particles_;
-  if (s.density.size() != p.size()) return;  // nothing saved
-  p.position = s.position;
-  p.velocity = s.velocity;
-  p.density = s.density;
-  p.kind = s.kind;
-  p.id = s.id;
-  p.needs_density_repair = s.needs_density_repair;
+  p.position = p.position_start;
+  p.velocity = p.velocity_start;
+  p.density = p.density_start;
+  std::fill(p.needs_density_repair.begin(), p.needs_density_repair.end(), 0);
   clock_ = saved_clock_;
 }
 

@@ -87,8 +87,8 @@ class Simulation {
   // of the tank size above an open tank), and 0.5 rho0 < rho < 2 rho0.
   [[nodiscard]] Health check_health(std::size_t max_reported = 5) const;
 
-  // A copy of the state (particles and clock) to return to if a step goes bad.
-  void save_state();
+  // Returns to the state at the start of the last step (if it got far enough to change anything),
+  // for the instability guard.
   void restore_saved_state();
 
   using KernelVariant = std::variant<CubicSpline<2>, WendlandC2<2>>;
@@ -110,8 +110,8 @@ class Simulation {
   std::vector<double> scratch_;
   Clock clock_;
   double min_particle_distance_ = std::numeric_limits<double>::quiet_NaN();  // unknown before the first step
-  Particles<2> saved_particles_;
   Clock saved_clock_;
+  bool has_saved_state_ = false;
   bool predictor_corrector_ = true;
   int threads_ = 1;
   std::size_t removed_near_coincident_ = 0;

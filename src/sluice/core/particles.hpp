@@ -46,13 +46,18 @@ struct Particles {
     needs_density_repair.resize(n, 0);
   }
 
+  // Appends a particle at rest while a set is being built. Only the state fields grow (keeping the
+  // set-up's peak memory low); call resize(size()) before rates or step-start fields are used.
   void add(const std::array<double, Dim>& x, Kind k, double rho) {
     const std::size_t n = size();
-    resize(n + 1);
-    for (int d = 0; d < Dim; ++d) position[d][n] = x[d];
-    density[n] = rho;
-    kind[n] = k;
-    id[n] = static_cast<std::uint32_t>(n);
+    for (int d = 0; d < Dim; ++d) {
+      position[d].push_back(x[d]);
+      velocity[d].push_back(0.0);
+    }
+    density.push_back(rho);
+    kind.push_back(k);
+    id.push_back(static_cast<std::uint32_t>(n));
+    needs_density_repair.push_back(0);
   }
 
   [[nodiscard]] bool is_fluid(std::size_t i) const { return kind[i] == Kind::fluid; }

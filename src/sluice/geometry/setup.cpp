@@ -139,7 +139,9 @@ std::size_t remove_near_coincident(Particles<2>& p, double min_distance) {
       lo[d] = std::min(lo[d], p.position[d][i]);
       hi[d] = std::max(hi[d], p.position[d][i]);
     }
-  CellGrid<2> grid(lo, hi, min_distance);
+  // Cells of twice the distance: a neighbour within it is in an adjacent cell, and the cell array stays
+  // small over the air of a mostly empty tank.
+  CellGrid<2> grid(lo, hi, 2.0 * min_distance);
   grid.bin(p.position);
   const auto& order = grid.order();  // sorted index k holds particle order[k]
   std::vector<std::uint8_t> removed(n, 0);

@@ -277,9 +277,8 @@ RunResult run_case(const Case& requested, const RunOptions& options, std::ostrea
     double limit = std::min(frame_time, end_time);
     if (checkpoint_interval > 0)
       limit = std::min(limit, static_cast<double>(next_checkpoint) * checkpoint_interval);
-    // The instability guard: keep the state before the step; if the step leaves any particle
-    // non-finite, far outside the tank or at an absurd density, save that last good state and stop.
-    sim->save_state();
+    // The instability guard: if the step leaves any particle non-finite, far outside the tank or at
+    // an absurd density, go back to the state before it, save that and stop.
     std::string failure;
     try {
       sim->step(limit);

@@ -35,33 +35,31 @@ struct RateSettings {
 
 // Per-particle terms computed once per evaluation instead of once per pair.
 struct ParticleTerms {
-  std::vector<double> pressure;
   std::vector<double> p_over_rho2;  // P / rho^2
-  std::vector<double> inv_rho2;     // 1 / rho^2
   std::vector<double> inv_rho;      // 1 / rho
   std::vector<double> hydro_k;      // rho / c^2: d(rho)/d(P) for the hydrostatic density difference
   std::vector<double> fluid_mask;   // 1 for fluid, 0 for wall
-  std::vector<double> tension;      // eps |P| / rho^2 where P < 0, else 0 (artificial pressure)
+  std::vector<double> tension;      // artificial pressure R (only filled when it is on)
 
   template <int Dim>
   void compute(const Particles<Dim>& p, const TaitEos& eos, int threads, double artificial_pressure = 0.0) {
     const long n = static_cast<long>(p.size());
-    for (auto* v : {&pressure, &p_over_rho2, &inv_rho2, &inv_rho, &hydro_k, &fluid_mask, &tension})
-      v->resize(static_cast<std::size_t>(n));
+    for (auto* v : {&p_over_rho2, &inv_rho, &hydro_k, &fluid_mask}) v->resize(static_cast<std::size_t>(n));
+    tension.resize(artificial_pressure > 0.0 ? static_cast<std::size_t>(n) : 0);
     const double c0_2 = eos.sound_speed * eos.sound_speed;
 #pragma omp parallel for num_threads(threads) schedule(static) if (n >= light_loop_parallel_threshold)
     for (long i = 0; i < n; ++i) {
       const double rho = p.density[i];
-      const double pressure_i = eos.pressure(rho);
-      pressure[i] = pressure_i;
+      const double pressure = eos.pressure(rho);
       inv_rho[i] = 1.0 / rho;
-      inv_rho2[i] = inv_rho[i] * inv_rho[i];
-      p_over_rho2[i] = pressure_i * inv_rho2[i];
+      p_over_rho2[i] = pressure * inv_rho[i] * inv_rho[i];
       // c^2 = dP/drho = gamma (P + B) / rho
-      const double c2 = eos.gamma * (pressure_i + eos.stiffness()) * inv_rho[i];
+      const double c2 = eos.gamma * (pressure + eos.stiffness()) * inv_rho[i];
       hydro_k[i] = rho / std::max(c2, 1e-12 * c0_2);
       fluid_mask[i] = p.kind[i] == Kind::fluid ? 1.0 : 0.0;
-      tension[i] = pressure_i < 0.0 ? -artificial_pressure * p_over_rho2[i] : 0.01 * (artificial_pressure > 0.0) * p_over_rho2[i];
+      // Monaghan (2000): eps |P|/rho^2 under tension, 0.01 P/rho^2 under compression.
+      if (artificial_pressure > 0.0)
+        tension[i] = pressure < 0.0 ? -artificial_pressure * p_over_rho2[i] : 0.01 * p_over_rho2[i];
     }
   }
 };
@@ -170,7 +168,6 @@ RateSummary compute_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const Ke
   const double* __restrict v2 = p.velocity[Dim > 2 ? 2 : 0].data();
   const double* __restrict rho = p.density.data();
   const double* __restrict p_over_rho2 = t.p_over_rho2.data();
-  const double* __restrict inv_rho2 = t.inv_rho2.data();
   const double* __restrict inv_rho = t.inv_rho.data();
   const double* __restrict hydro_k = t.hydro_k.data();
   const double* __restrict fluid_mask = t.fluid_mask.data();
@@ -234,9 +231,9 @@ RateSummary compute_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const Ke
       }
 
       const double pr_i = p_over_rho2[i];
-      const double ir2_i = inv_rho2[i];
+      const double ir2_i = inv_rho[i] * inv_rho[i];
       const double k_i = hydro_k[i];
-      const double tension_i = tension[i];
+      const double tension_i = WithArtificialPressure ? tension[i] : 0.0;
       double acc0 = 0.0, acc1 = 0.0, acc2 = 0.0;
       double vij2_max = 0.0;
       double r2_min = support2;
