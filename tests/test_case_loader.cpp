@@ -747,7 +747,10 @@ TEST(CaseTemplate, DocumentsEveryKey) {
     else EXPECT_EQ(facts.find("unit:"), std::string::npos) << facts;
     expect_contains(facts, {"default: ", "allowed: "});
     if (p.lower <= p.upper) {
-      const std::string range = p.upper >= 1e8 ? fmt::format(">= {}", p.lower) : fmt::format("from {} to {}", p.lower, p.upper);
+      // Integers with a huge upper bound, and numbers with an unbounded one, are written as ">= lower".
+      const bool is_int = std::holds_alternative<int Case::*>(p.field);
+      const bool open_above = is_int ? p.upper >= 1e8 : p.upper >= 1e299;
+      const std::string range = open_above ? fmt::format(">= {}", p.lower) : fmt::format("from {} to {}", p.lower, p.upper);
       expect_contains(facts, {range});
     }
     for (const auto& choice : p.choices) expect_contains(facts, {"\"" + choice + "\""});
