@@ -2,7 +2,7 @@
 BUILD_DIR ?= build/release
 JOBS ?= $(shell nproc)
 
-.PHONY: all setup build run test test-all bench asan clean
+.PHONY: all setup build run test test-all bench asan fuzz clean
 
 all: build
 
@@ -26,10 +26,20 @@ test-all: build
 bench: build
 	./$(BUILD_DIR)/sluice-bench-run --csv bench/results.csv
 
+# The tests under AddressSanitizer + UBSan. ASAN_LABELS (labels joined by |) builds and runs only those
+# labels' tests: CI runs `make asan ASAN_LABELS='unit|cli|io'` (see .ci/run).
+ASAN_LABELS ?=
 asan: setup
 	@cmake --preset asan >/dev/null
-	@cmake --build --preset asan -j $(JOBS)
-	ctest --preset asan -j $(JOBS) --label-exclude long
+	@cmake --build --preset asan -j $(JOBS) $(if $(ASAN_LABELS),--target $(patsubst %,tests_%,$(subst |, ,$(ASAN_LABELS))))
+	ctest --preset asan -j $(JOBS) --label-exclude long $(if $(ASAN_LABELS),--label-regex '^($(ASAN_LABELS))$$')
+
+# libFuzzer on the three input parsers (case files, checkpoints, frames), FUZZ_SECONDS each, one after
+# another; see README "Hardening" and scripts/fuzz.sh.
+FUZZ_SECONDS ?= 60
+fuzz: build
+	@bash scripts/setup.sh fuzz
+	FUZZ_SECONDS=$(FUZZ_SECONDS) bash scripts/fuzz.sh
 
 clean:
 	rm -rf build

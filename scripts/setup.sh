@@ -10,6 +10,11 @@ packages=(
   libpng-dev libgif-dev
   python3 python3-numpy python3-meshio python3-pil
 )
+# `make fuzz` (scripts/setup.sh fuzz) also needs clang with its libFuzzer and sanitizer runtimes, and
+# LLVM's OpenMP for the solver library built with clang.
+if [ "${1:-}" = fuzz ]; then
+  packages+=(clang libclang-rt-14-dev libomp-14-dev)
+fi
 
 missing=()
 for p in "${packages[@]}"; do

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <zlib.h>
 
+#include <cmath>
 #include <cstring>
 
 #include "sluice/case/params.hpp"
@@ -56,6 +57,7 @@ class Reader {
  private:
   void take(void* out, std::size_t n) {
     if (n > end_ - at_) fail("truncated");
+    if (n == 0) return;  // out is null for an empty array, and memcpy's pointers must not be, even for 0 bytes
     std::memcpy(out, bytes_.data() + at_, n);
     at_ += n;
   }
@@ -125,6 +127,13 @@ Checkpoint parse_checkpoint(const std::string& bytes, const std::string& source)
   cp.clock.last_dt = r.get<double>();
   cp.clock.leaks = r.get<std::int64_t>();
   cp.wall_seconds = r.get<double>();
+  // A run's clock starts at zero and only moves forward. A negative or non-finite time (possible only in
+  // a crafted file, the CRC passing) made a restart step forever from t = -1e300 or run to "t = nan".
+  auto usable = [](double v) { return std::isfinite(v) && v >= 0.0; };
+  if (!usable(cp.clock.time) || !usable(cp.clock.last_dt) || !usable(cp.wall_seconds) || cp.clock.step < 0 ||
+      cp.clock.leaks < 0)
+    r.fail(fmt::format("impossible clock (time {}, step {}, last dt {}, leaks {}, wall time {})", cp.clock.time,
+                       cp.clock.step, cp.clock.last_dt, cp.clock.leaks, cp.wall_seconds));
   const auto n = r.get<std::uint64_t>();
   // 8 doubles' worth of bytes per particle at most; reject absurd counts before allocating.
   if (n > r.remaining() / 40) r.fail("particle count does not match the file size");

@@ -5,8 +5,9 @@
 
 #include <bit>
 #include <charconv>
+#include <cctype>
 #include <cstring>
-#include <regex>
+#include <string_view>
 
 namespace sluice {
 
@@ -45,7 +46,7 @@ std::vector<T> NpyArray::values() const {
   if (bytes.size() != element_count() * sizeof(T))
     throw FormatError(fmt::format("array holds {} bytes, its shape needs {}", bytes.size(), element_count() * sizeof(T)));
   std::vector<T> v(element_count());
-  std::memcpy(v.data(), bytes.data(), bytes.size());
+  if (!v.empty()) std::memcpy(v.data(), bytes.data(), bytes.size());  // an empty vector's data() may be null
   return v;
 }
 
@@ -107,21 +108,41 @@ NpyArray parse_npy(const std::string& b, const std::string& name) {
   }
   if (start + header_len > b.size()) throw FormatError(fmt::format("{}: truncated .npy header", name));
   const std::string header = b.substr(start, header_len);
-  static const std::regex descr(R"('descr':\s*'([^']+)')");
-  static const std::regex fortran(R"('fortran_order':\s*(True|False))");
-  static const std::regex shape_re(R"('shape':\s*\(([^)]*)\))");
-  std::smatch m;
+  // The header is a Python dict literal. Its three keys are found by hand: std::regex backtracking
+  // recurses once per character matched, and a long header (40 kB under ASan, 1 MB in a release
+  // build) overflowed the stack.
+  constexpr auto npos = std::string::npos;
+  auto value_of = [&](std::string_view key) {  // where the value after `key` starts, or npos
+    std::size_t at = header.find(key);
+    if (at == npos) return npos;
+    at += key.size();
+    while (at < header.size() && std::isspace(static_cast<unsigned char>(header[at]))) ++at;
+    return at;
+  };
   NpyArray a;
-  if (!std::regex_search(header, m, descr)) throw FormatError(fmt::format("{}: .npy header has no descr", name));
-  a.dtype = m[1];
-  if (!std::regex_search(header, m, fortran) || m[1] == "True")
+  const std::size_t descr = value_of("'descr':");
+  const std::size_t descr_end =
+      descr < header.size() && header[descr] == '\'' ? header.find('\'', descr + 1) : npos;
+  if (descr_end == npos || descr_end == descr + 1)
+    throw FormatError(fmt::format("{}: .npy header has no descr", name));
+  a.dtype = header.substr(descr + 1, descr_end - descr - 1);
+  const std::size_t fortran = value_of("'fortran_order':");
+  if (fortran == npos || header.compare(fortran, 5, "False") != 0)
     throw FormatError(fmt::format("{}: expected a C-order array", name));
-  if (!std::regex_search(header, m, shape_re)) throw FormatError(fmt::format("{}: .npy header has no shape", name));
-  const std::string dims = m[1];
-  static const std::regex number(R"(\d+)");
+  const std::size_t shape = value_of("'shape':");
+  const std::size_t shape_end = shape < header.size() && header[shape] == '(' ? header.find(')', shape + 1) : npos;
+  if (shape_end == npos) throw FormatError(fmt::format("{}: .npy header has no shape", name));
+  const std::string dims = header.substr(shape + 1, shape_end - shape - 1);
   std::size_t count = 1;
-  for (auto it = std::sregex_iterator(dims.begin(), dims.end(), number); it != std::sregex_iterator(); ++it) {
-    const std::string digits = it->str();
+  for (std::size_t first = 0; first < dims.size();) {
+    if (!std::isdigit(static_cast<unsigned char>(dims[first]))) {
+      ++first;
+      continue;
+    }
+    std::size_t last = first;
+    while (last < dims.size() && std::isdigit(static_cast<unsigned char>(dims[last]))) ++last;
+    const std::string digits = dims.substr(first, last - first);
+    first = last;
     std::size_t dim = 0;
     const auto [end, err] = std::from_chars(digits.data(), digits.data() + digits.size(), dim);
     // Each dimension, and the element count, must fit comfortably in memory arithmetic.

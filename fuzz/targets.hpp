@@ -1,0 +1,182 @@
+// What each fuzz target does with one input, shared with tests/test_fuzz_regressions.cpp so that a
+// kept input is replayed through exactly the code the fuzzer ran.
+//
+// The contract checked: a parser either returns or throws its documented error type (CaseError for
+// case files, FormatError for checkpoints and frames). Any other exception, a crash, a sanitizer
+// report, or an accepted input that breaks one of the properties below is a bug.
+#pragma once
+
+#include <zlib.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "sluice/case/params.hpp"
+#include "sluice/io/checkpoint.hpp"
+#include "sluice/io/frames.hpp"
+#include "sluice/io/npz.hpp"
+
+namespace sluice::fuzz {
+
+// An accepted input that breaks a property (not an error the parser reports): a bug, like a crash.
+struct PropertyViolation : std::logic_error {
+  using std::logic_error::logic_error;
+};
+
+enum class Outcome { accepted, rejected };
+
+inline void require(bool ok, const std::string& what) {
+  if (!ok) throw PropertyViolation(what);
+}
+
+// Case files: TOML text -> a validated Case, or CaseError. An accepted case must survive the
+// template round trip (`sluice init` writes the template and checkpoints store the case as it:
+// a case that does not read back cannot be restarted).
+inline Outcome check_case(const std::string& text) {
+  Case c;
+  try {
+    c = parse_case(text, "fuzz.toml");
+  } catch (const CaseError&) {
+    return Outcome::rejected;
+  }
+  const std::string once = case_template(c);
+  Case again;
+  try {
+    again = parse_case(once, "template");
+  } catch (const CaseError& e) {
+    throw PropertyViolation(std::string("the template of an accepted case is refused: ") + e.what());
+  }
+  require(case_template(again) == once, "the case template does not read back unchanged");
+  return Outcome::accepted;
+}
+
+// Checkpoints end with a CRC-32 of everything before it. The bytes with that checksum made to
+// match, so that the fuzzer reaches the parsing behind the check, not only the check.
+inline std::string with_checkpoint_crc_fixed(std::string bytes) {
+  if (bytes.size() < 4) return bytes;
+  const auto crc = static_cast<std::uint32_t>(
+      crc32(0L, reinterpret_cast<const Bytef*>(bytes.data()), static_cast<uInt>(bytes.size() - 4)));
+  std::memcpy(bytes.data() + bytes.size() - 4, &crc, 4);
+  return bytes;
+}
+
+inline Outcome check_checkpoint_bytes(const std::string& bytes) {
+  Checkpoint cp;
+  try {
+    cp = parse_checkpoint(bytes, "fuzz.bin");
+  } catch (const FormatError&) {
+    return Outcome::rejected;
+  }
+  // A restart continues from the clock: a negative or non-finite one made it step forever.
+  auto usable = [](double v) { return std::isfinite(v) && v >= 0.0; };
+  require(usable(cp.clock.time) && usable(cp.clock.last_dt) && usable(cp.wall_seconds) && cp.clock.step >= 0 &&
+              cp.clock.leaks >= 0,
+          "an accepted checkpoint has an impossible clock");
+  const Particles<2>& p = cp.particles;
+  const std::size_t n = p.size();
+  require(p.position[0].size() == n && p.position[1].size() == n && p.velocity[0].size() == n &&
+              p.velocity[1].size() == n && p.kind.size() == n && p.id.size() == n &&
+              p.needs_density_repair.size() == n,
+          "an accepted checkpoint has particle arrays of different lengths");
+  std::vector<bool> seen(n, false);
+  for (std::size_t i = 0; i < n; ++i) {
+    require(static_cast<std::uint8_t>(p.kind[i]) <= 1, "an accepted checkpoint has an unknown particle kind");
+    require(p.id[i] < n && !seen[p.id[i]], "an accepted checkpoint's ids are not a permutation");
+    seen[p.id[i]] = true;
+  }
+  return Outcome::accepted;
+}
+
+// Checkpoint bytes, as given and with their checksum fixed.
+inline Outcome check_checkpoint(const std::string& bytes) {
+  const Outcome as_given = check_checkpoint_bytes(bytes);
+  const Outcome fixed = check_checkpoint_bytes(with_checkpoint_crc_fixed(bytes));
+  return as_given == Outcome::accepted ? as_given : fixed;
+}
+
+// .npz archives carry a CRC-32 per entry in the zip central directory. The bytes with every CRC
+// that can be located made to match its entry's data (all reads bounds-checked; anything that does
+// not look like a zip is returned unchanged).
+inline std::string with_npz_crcs_fixed(std::string b) {
+  auto u16 = [&](std::size_t at) -> std::uint64_t {
+    std::uint16_t v = 0;
+    if (at <= b.size() && b.size() - at >= 2) std::memcpy(&v, b.data() + at, 2);
+    return v;
+  };
+  auto u32 = [&](std::size_t at) -> std::uint64_t {
+    std::uint32_t v = 0;
+    if (at <= b.size() && b.size() - at >= 4) std::memcpy(&v, b.data() + at, 4);
+    return v;
+  };
+  if (b.size() < 22) return b;
+  std::size_t eocd = std::string::npos;
+  for (std::size_t at = b.size() - 22;; --at) {
+    if (u32(at) == 0x06054b50) {
+      eocd = at;
+      break;
+    }
+    if (at == 0 || b.size() - at > 22 + 0xFFFF) break;
+  }
+  if (eocd == std::string::npos) return b;
+  const std::uint64_t entries = u16(eocd + 10);
+  std::uint64_t at = u32(eocd + 16);
+  for (std::uint64_t e = 0; e < entries && at + 46 <= b.size(); ++e) {
+    if (u32(at) != 0x02014b50) break;
+    const std::uint64_t size = u32(at + 24);
+    const std::uint64_t local = u32(at + 42);
+    const std::uint64_t data_at = local + 30 + u16(local + 26) + u16(local + 28);
+    if (data_at <= b.size() && b.size() - data_at >= size) {
+      const auto crc = static_cast<std::uint32_t>(
+          crc32(0L, reinterpret_cast<const Bytef*>(b.data() + data_at), static_cast<uInt>(size)));
+      std::memcpy(b.data() + at + 16, &crc, 4);
+    }
+    at += 46 + u16(at + 28) + u16(at + 30) + u16(at + 32);
+  }
+  return b;
+}
+
+inline bool same_bits(const void* a, const void* b, std::size_t n) { return n == 0 || std::memcmp(a, b, n) == 0; }
+
+template <class T>
+bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && same_bits(a.data(), b.data(), a.size() * sizeof(T));
+}
+
+inline Outcome check_frame_bytes(const std::string& bytes) {
+  Frame f;
+  try {
+    f = frame_from_npz(bytes, "fuzz.npz");
+  } catch (const FormatError&) {
+    return Outcome::rejected;
+  }
+  const std::size_t n = f.size();
+  require(f.position.size() == 2 * n && f.velocity.size() == 2 * n && f.pressure.size() == n && f.kind.size() == n &&
+              f.id.size() == n,
+          "an accepted frame has arrays of inconsistent lengths");
+  // What was read is written back and read again unchanged, bit for bit (NaNs included).
+  Frame g;
+  try {
+    g = frame_from_npz(frame_to_npz(f), "rewritten.npz");
+  } catch (const FormatError& e) {
+    throw PropertyViolation(std::string("an accepted frame, written back, is refused: ") + e.what());
+  }
+  require(same_bits(&f.time, &g.time, sizeof f.time) && f.step == g.step && same_bits(&f.dx, &g.dx, sizeof f.dx) &&
+              same_bits(f.position, g.position) && same_bits(f.velocity, g.velocity) &&
+              same_bits(f.density, g.density) && same_bits(f.pressure, g.pressure) && same_bits(f.kind, g.kind) &&
+              same_bits(f.id, g.id),
+          "an accepted frame does not read back unchanged after writing it");
+  return Outcome::accepted;
+}
+
+// Frame bytes, as given and with their zip checksums fixed.
+inline Outcome check_frame(const std::string& bytes) {
+  const Outcome as_given = check_frame_bytes(bytes);
+  const Outcome fixed = check_frame_bytes(with_npz_crcs_fixed(bytes));
+  return as_given == Outcome::accepted ? as_given : fixed;
+}
+
+}  // namespace sluice::fuzz
