@@ -28,5 +28,8 @@ struct Command {
 Command add_run_command(CLI::App& app);
 Command add_cases_command(CLI::App& app);
 Command add_init_command(CLI::App& app);
+Command add_analyze_command(CLI::App& app);      // analysis_commands.cpp
+Command add_convergence_command(CLI::App& app);  // analysis_commands.cpp
+Command add_validate_command(CLI::App& app);     // analysis_commands.cpp
 
 }  // namespace sluice::app

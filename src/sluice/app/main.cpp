@@ -35,6 +35,9 @@ int main(int argc, char** argv) {
       app::add_run_command(cli),
       app::add_cases_command(cli),
       app::add_init_command(cli),
+      app::add_analyze_command(cli),
+      app::add_convergence_command(cli),
+      app::add_validate_command(cli),
   };
 
   // No command, or an unknown one: CLI11 would only say "A subcommand is required".

@@ -1,0 +1,114 @@
+// Validation against experiments: the built-in validation cases (cases/martin_moyce.toml,
+// cases/koshizuka_oka.toml, cases/buchner.toml) run and compared with the reference data of
+// data/validation/, in the data's non-dimensional units, with a self-contained HTML report.
+//
+//   martin_moyce   surge front Z(T) and residual column height H(tau) against Martin & Moyce (1952)
+//   koshizuka_oka  surge front Z(T) against Koshizuka & Oka (1996)
+//   buchner        far-wall pressure p*(t*) at 0.2H against Buchner (2002), and the impact time
+//
+// Fronts are the furthest fluid particle's centre plus dx/2, its edge: the initial front, a particle
+// centre dx/2 inside the column, is then at Z = 1 exactly, as in the experiments' scaling.
+#pragma once
+
+#include <filesystem>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "sluice/analysis/series.hpp"
+#include "sluice/case/case.hpp"
+#include "sluice/io/run.hpp"
+
+namespace sluice::analysis {
+
+// An accuracy requirement: value <= bound.
+struct Check {
+  std::string id;    // e.g. "martin_moyce.front_rms", for checks.csv
+  std::string what;  // in words, for the report
+  double value = 0.0;
+  double bound = 0.0;
+  [[nodiscard]] bool passed() const { return value <= bound; }
+};
+
+// One simulated curve against one data set.
+struct Comparison {
+  std::string id;         // e.g. "front_T3", for validation.csv
+  std::string quantity;   // e.g. "front Z = x/a"
+  std::string reference;  // e.g. "Martin & Moyce (1952) Table 2"
+  std::string window;     // e.g. "T <= 3"
+  Difference difference;
+};
+
+struct Figure {
+  std::string svg;
+  std::string caption;
+};
+
+struct ValidationResult {
+  std::string case_name;
+  std::string title;
+  std::string resolution;  // e.g. "a/dx = 40 (dx = 1.429 mm)"
+  double resolution_ratio = 0.0;
+  std::string settings;    // the physics options in one line
+  std::size_t particles = 0, fluid_particles = 0;
+  std::int64_t steps = 0;
+  double wall_seconds = 0.0;
+  std::vector<Comparison> comparisons;
+  std::vector<Check> checks;
+  std::vector<Figure> figures;
+  std::vector<std::string> notes;
+  [[nodiscard]] bool passed() const;
+};
+
+// Accuracy bounds: the targets for the full report, and what holds at --quick's resolution.
+struct ValidationBounds {
+  double mm_front_rms;        // Martin & Moyce front, RMS dZ for T <= 3
+  double mm_height_rms;       // Martin & Moyce residual column height, RMS dH (0: reported only)
+  double ko_front_rms;        // Koshizuka & Oka front, RMS dZ (0: reported only)
+  double buchner_pressure_rms;  // Buchner probe, RMS dp* for 2 <= t* <= 7
+  double buchner_plateau_rms;   // Buchner probe, RMS dp* for 3.5 <= t* <= 5.5 (0: reported only)
+  double buchner_impact;      // |impact time - data's| in t*
+};
+ValidationBounds full_bounds();
+ValidationBounds quick_bounds();
+
+// The column width (or, for Buchner, height) over dx at which --quick runs each case.
+double quick_resolution(const std::string& case_name);
+
+// Evaluations of a finished run of the case (probes in run_dir/probes/).
+ValidationResult evaluate_martin_moyce(const Case& c, const std::filesystem::path& run_dir, const ValidationBounds& b);
+ValidationResult evaluate_koshizuka_oka(const Case& c, const std::filesystem::path& run_dir, const ValidationBounds& b);
+ValidationResult evaluate_buchner(const Case& c, const std::filesystem::path& run_dir, const ValidationBounds& b);
+
+// The impact time: the first time a pressure signal reaches `level` (p*), interpolated.
+inline constexpr double impact_pressure_level = 0.25;
+
+struct ValidationOptions {
+  bool quick = false;
+  std::filesystem::path output_dir;        // holds report.html, validation.csv and runs/<case>/
+  int threads = 1;
+  RunOptions::Progress progress = RunOptions::Progress::none;
+  std::vector<std::string> cases;          // empty: all
+  std::string command_line;                // recorded in the report
+};
+
+struct ValidationReport {
+  bool quick = false;
+  std::vector<ValidationResult> results;
+  [[nodiscard]] bool passed() const;
+};
+
+// The case names validate runs, in report order.
+const std::vector<std::string>& validation_case_names();
+
+// Runs the cases, evaluates them and writes report.html, validation.csv (one row per comparison:
+// case,comparison,points,rms,max,mean,quantity,reference,window) and checks.csv (one row per
+// requirement: check,value,bound,passed) into options.output_dir.
+ValidationReport run_validation(const ValidationOptions& options, std::ostream& log);
+
+std::string validation_csv(const ValidationReport& report);
+std::string checks_csv(const ValidationReport& report);
+std::string validation_html(const ValidationReport& report, const std::string& command_line);
+std::string validation_table(const ValidationReport& report);  // for the terminal
+
+}  // namespace sluice::analysis

@@ -1,0 +1,209 @@
+// sluice analyze, sluice convergence, sluice validate: measurements on runs (sluice/analysis/).
+#include <fmt/format.h>
+#include <omp.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include "sluice/analysis/convergence.hpp"
+#include "sluice/analysis/validation.hpp"
+#include "sluice/analysis/wave_report.hpp"
+#include "sluice/app/commands.hpp"
+#include "sluice/case/params.hpp"
+#include "sluice/io/checkpoint.hpp"
+
+namespace fs = std::filesystem;
+
+namespace sluice::app {
+
+namespace {
+
+
+// A built-in case name or a case file, as `sluice run` takes it.
+Case case_from_argument(const std::string& name_or_path) {
+  std::error_code ec;
+  if (!fs::exists(name_or_path, ec) || fs::is_directory(name_or_path, ec))
+    if (auto c = load_builtin_case(name_or_path)) return *c;
+  return load_case_file(name_or_path);
+}
+
+std::vector<double> parse_dx_list(const std::string& text) {
+  std::vector<double> out;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const auto comma = text.find(',', start);
+    const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    double v = 0.0;
+    const auto [ptr, ec] = std::from_chars(item.data(), item.data() + item.size(), v);
+    if (item.empty() || ec != std::errc() || ptr != item.data() + item.size() || !(v > 0.0) || !std::isfinite(v))
+      throw BadInput(fmt::format("--dx {}: '{}' is not a positive number; expected spacings in metres separated by "
+                                 "commas, e.g. --dx 0.2,0.1,0.05",
+                                 text, item));
+    out.push_back(v);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  if (out.size() < 3)
+    throw BadInput(fmt::format("--dx {}: a convergence study needs at least 3 spacings; got {}", text, out.size()));
+  std::sort(out.begin(), out.end(), std::greater<>());
+  for (std::size_t i = 1; i < out.size(); ++i)
+    if (out[i] == out[i - 1]) throw BadInput(fmt::format("--dx {}: {} is given twice", text, out[i]));
+  return out;
+}
+
+int threads_or_all(int threads) { return threads > 0 ? threads : omp_get_num_procs(); }
+
+struct AnalyzeArgs {
+  std::string dir, output;
+  double threshold = 0.0;
+  int transits = 3;
+};
+
+int analyze(const AnalyzeArgs& a) {
+  const fs::path dir = a.dir;
+  const fs::path checkpoint = dir / "checkpoint.bin";
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw BadInput(fmt::format("{}: no such directory; expected a run's output directory", a.dir));
+  if (!fs::exists(checkpoint, ec))
+    throw BadInput(fmt::format("{}: no checkpoint.bin, which holds the run's case (tank width, gravity); is this a "
+                               "sluice run's output directory?",
+                               a.dir));
+  const Case c = read_checkpoint(checkpoint).config;
+  analysis::WaveOptions options;
+  options.front_threshold = a.threshold;
+  options.transits = a.transits;
+  const fs::path out = a.output.empty() ? dir / "analysis" : fs::path(a.output);
+  analysis::WaveAnalysis w;
+  try {
+    w = analysis::analyze_run(dir, c, options);
+  } catch (const analysis::AnalysisError& e) {
+    throw BadInput(e.what());
+  }
+  analysis::write_wave_report(w, c, dir, out);
+  std::cout << analysis::wave_table(w, c, dir);
+  std::cout << fmt::format("wrote {}/waves.csv, summary.csv, crest.svg, crest_height.svg, sloshing.svg and report.html\n",
+                           out.string());
+  return 0;
+}
+
+struct ConvergenceArgs {
+  std::string case_arg, dx, output;
+  std::vector<std::string> sets;
+  double end = 0.0, threshold = 0.0, interval = 0.0;
+  int threads = 0;
+  bool quiet = false;
+};
+
+int convergence(const ConvergenceArgs& a) {
+  Case c = case_from_argument(a.case_arg);
+  apply_overrides(c, a.sets);
+  analysis::ConvergenceOptions o;
+  o.dx = parse_dx_list(a.dx);
+  o.end_time = a.end;
+  o.front_threshold = a.threshold;
+  o.frame_interval = a.interval;
+  o.threads = threads_or_all(a.threads);
+  o.output_dir = a.output.empty() ? fs::path("out") / (c.name + "_convergence") : fs::path(a.output);
+  o.progress = a.quiet ? RunOptions::Progress::none : RunOptions::Progress::lines;
+  o.command_line = fmt::format("sluice convergence {} --dx {}", a.case_arg, a.dx);
+  for (const auto& s : a.sets) o.command_line += " --set " + s;
+  if (a.end > 0.0) o.command_line += fmt::format(" --end {}", a.end);
+  if (a.interval > 0.0) o.command_line += fmt::format(" --interval {}", a.interval);
+  if (a.threshold > 0.0) o.command_line += fmt::format(" --threshold {}", a.threshold);
+  const analysis::ConvergenceStudy study = analysis::run_convergence(c, o, std::cerr);
+  std::cout << analysis::convergence_table(study);
+  std::cout << fmt::format("wrote {}/convergence.csv, convergence.svg, fronts.svg and report.html\n",
+                           o.output_dir.string());
+  return 0;
+}
+
+struct ValidateArgs {
+  bool quick = false, quiet = false;
+  std::string output;
+  std::vector<std::string> cases;
+  int threads = 0;
+};
+
+int validate(const ValidateArgs& a) {
+  analysis::ValidationOptions o;
+  o.quick = a.quick;
+  o.cases = a.cases;
+  for (const auto& name : o.cases)
+    if (std::find(analysis::validation_case_names().begin(), analysis::validation_case_names().end(), name) ==
+        analysis::validation_case_names().end())
+      throw BadInput(fmt::format("--case {}: no validation case of that name; expected one of: {}", name,
+                                 fmt::join(analysis::validation_case_names(), ", ")));
+  o.threads = threads_or_all(a.threads);
+  o.output_dir = a.output.empty() ? fs::path("out") / (a.quick ? "validation_quick" : "validation") : fs::path(a.output);
+  o.progress = a.quiet ? RunOptions::Progress::none : RunOptions::Progress::lines;
+  o.command_line = std::string("sluice validate") + (a.quick ? " --quick" : "");
+  for (const auto& name : a.cases) o.command_line += " --case " + name;
+  const analysis::ValidationReport report = analysis::run_validation(o, std::cerr);
+  std::cout << analysis::validation_table(report);
+  std::cout << fmt::format("wrote {}, validation.csv and checks.csv\n", (o.output_dir / "report.html").string());
+  if (!report.passed()) {
+    std::cerr << "sluice: validation failed: a requirement above is not met\n";
+    return exit_failure;
+  }
+  return 0;
+}
+
+}  // namespace
+
+Command add_analyze_command(CLI::App& app) {
+  auto args = std::make_shared<AnalyzeArgs>();
+  auto* cmd = app.add_subcommand(
+      "analyze", "Wave crest, front, crest speeds and sloshing period of a run, against shallow-water theory.");
+  cmd->add_option("output_dir", args->dir, "A run's output directory (frames/*.npz and checkpoint.bin)")->required();
+  cmd->add_option("-o,--output", args->output, "Where to write the CSVs, plots and report (default: OUTPUT_DIR/analysis)");
+  cmd->add_option("--threshold", args->threshold,
+                  "Height (m) above the initial surface that marks the wave front (default: 10% of the initial step "
+                  "between the walls' depths)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--transits", args->transits, "Average the crest speed over this many first transits (default: 3)")
+      ->check(CLI::Range(1, 1000));
+  return {cmd, [args] { return analyze(*args); }};
+}
+
+Command add_convergence_command(CLI::App& app) {
+  auto args = std::make_shared<ConvergenceArgs>();
+  auto* cmd = app.add_subcommand(
+      "convergence", "Run a case at several particle spacings and measure the observed order of convergence.");
+  cmd->add_option("case", args->case_arg, "Case file (.toml) or built-in case name")->required();
+  cmd->add_option("--dx", args->dx, "Particle spacings in metres, at least 3, e.g. 0.2,0.1,0.05 (h/dx stays fixed)")
+      ->required();
+  cmd->add_option("--end", args->end,
+                  "Simulated time of each run (default: the time a shallow-water wave takes to cross the tank, "
+                  "plus 20%, at most the case's end)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--interval", args->interval,
+                  "Frame interval in seconds for the front position (default: 1/50 of the shallow-water crossing "
+                  "time)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--threshold", args->threshold,
+                  "Height (m) above the initial surface that marks the wave front (default: 10% of the initial step)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--set", args->sets, "Override a case key for every run (repeatable)")->allow_extra_args(false);
+  cmd->add_option("-o,--output", args->output, "Output directory (default: out/<case>_convergence)");
+  cmd->add_option("--threads", args->threads, "Threads per run (default: all cores)")->check(CLI::Range(1, 1024));
+  cmd->add_flag("-q,--quiet", args->quiet, "No progress lines");
+  return {cmd, [args] { return convergence(*args); }};
+}
+
+Command add_validate_command(CLI::App& app) {
+  auto args = std::make_shared<ValidateArgs>();
+  auto* cmd = app.add_subcommand(
+      "validate", "Run the validation cases and compare them with experiments; writes an HTML report.");
+  cmd->add_flag("--quick", args->quick, "Coarse resolution, as run by the test suite (about a minute)");
+  cmd->add_option("-o,--output", args->output, "Output directory (default: out/validation or out/validation_quick)");
+  cmd->add_option("--case", args->cases, "Run only this validation case (repeatable): martin_moyce, koshizuka_oka, buchner");
+  cmd->add_option("--threads", args->threads, "Threads per run (default: all cores)")->check(CLI::Range(1, 1024));
+  cmd->add_flag("-q,--quiet", args->quiet, "No progress lines");
+  return {cmd, [args] { return validate(*args); }};
+}
+
+}  // namespace sluice::app

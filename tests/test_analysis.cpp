@@ -1,0 +1,414 @@
+// The analysis functions on synthetic data with known answers: interpolation and differences, line
+// fits, periods of a sine, transits of a crest moving at a known speed, a wave front moving at a known
+// speed through real frames, observed orders, the reference tables, plots and the validation
+// evaluations fed with the experiments' own curves.
+#include <gtest/gtest.h>
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+
+#include "sluice/analysis/convergence.hpp"
+#include "sluice/analysis/html_report.hpp"
+#include "sluice/analysis/reference_data.hpp"
+#include "sluice/analysis/series.hpp"
+#include "sluice/analysis/svg_plot.hpp"
+#include "sluice/analysis/table.hpp"
+#include "sluice/analysis/validation.hpp"
+#include "sluice/analysis/waves.hpp"
+#include "sluice/case/params.hpp"
+#include "sluice/io/atomic_file.hpp"
+
+using namespace sluice;
+using namespace sluice::analysis;
+namespace fs = std::filesystem;
+
+namespace {
+
+Series sampled(double t0, double t1, double step, const std::function<double(double)>& f) {
+  Series s;
+  for (int k = 0; t0 + k * step <= t1 + 1e-12; ++k) {
+    s.t.push_back(t0 + k * step);
+    s.y.push_back(f(s.t.back()));
+  }
+  return s;
+}
+
+// A temporary directory, removed at the end of the test.
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    path = fs::temp_directory_path() /
+           fmt::format("sluice_analysis_{}_{}", ::getpid(), ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+};
+
+}  // namespace
+
+TEST(Series, InterpolatesLinearlyAndOnlyInsideItsRange) {
+  const Series s{{0.0, 1.0, 3.0}, {0.0, 2.0, 6.0}};
+  EXPECT_DOUBLE_EQ(*interpolate(s, 0.5), 1.0);
+  EXPECT_DOUBLE_EQ(*interpolate(s, 2.0), 4.0);
+  EXPECT_DOUBLE_EQ(*interpolate(s, 3.0), 6.0);
+  EXPECT_FALSE(interpolate(s, -0.1));
+  EXPECT_FALSE(interpolate(s, 3.1));
+}
+
+TEST(Series, SortedKeepsPairsAndRejectsBadInput) {
+  const Series s = sorted({{2.0, 0.5, 1.0}, {20.0, 5.0, 10.0}});
+  EXPECT_EQ(s.t, (std::vector<double>{0.5, 1.0, 2.0}));
+  EXPECT_EQ(s.y, (std::vector<double>{5.0, 10.0, 20.0}));
+  EXPECT_THROW(sorted({{0.0, 1.0}, {1.0}}), AnalysisError);
+  EXPECT_THROW(sorted({{0.0, NAN}, {1.0, 2.0}}), AnalysisError);
+}
+
+TEST(Series, CompareGivesRmsMaxAndBiasOverTheWindow) {
+  // Simulation = reference + 0.1 everywhere, except one point 0.4 off, outside the window.
+  const Series reference{{0.0, 1.0, 2.0, 3.0, 4.0}, {1.0, 2.0, 3.0, 4.0, 5.0}};
+  const Series simulation = sampled(0.0, 4.0, 0.25, [](double t) { return t + 1.1 + (t == 4.0 ? 0.3 : 0.0); });
+  const Difference d = compare(simulation, reference, 0.0, 3.0);
+  EXPECT_EQ(d.points, 4u);
+  EXPECT_NEAR(d.rms, 0.1, 1e-12);
+  EXPECT_NEAR(d.max_abs, 0.1, 1e-12);
+  EXPECT_NEAR(d.mean, 0.1, 1e-12);
+  const Difference all = compare(simulation, reference, 0.0, 10.0);
+  EXPECT_EQ(all.points, 5u);
+  EXPECT_NEAR(all.max_abs, 0.4, 1e-12);
+  EXPECT_NEAR(all.rms, std::sqrt((4 * 0.01 + 0.16) / 5), 1e-12);
+  // Reference points outside the simulated times are not used; none at all is an error.
+  EXPECT_EQ(compare(Series{{0.0, 2.0}, {1.0, 3.0}}, reference, 0.0, 10.0).points, 3u);
+  EXPECT_THROW(compare(Series{{10.0, 11.0}, {0.0, 0.0}}, reference, 0.0, 10.0), AnalysisError);
+}
+
+TEST(Series, FitsAStraightLine) {
+  const Series s = sampled(0.0, 5.0, 0.1, [](double t) { return 2.0 + 3.0 * t; });
+  const LineFit f = fit_line(s, 1.0, 4.0);
+  EXPECT_NEAR(f.slope, 3.0, 1e-12);
+  EXPECT_NEAR(f.intercept, 2.0, 1e-12);
+  EXPECT_EQ(f.points, 31u);
+  EXPECT_THROW(fit_line(s, 1.0, 1.05), AnalysisError);
+}
+
+TEST(Series, FindsTheFirstRiseToALevel) {
+  const Series s{{0.0, 1.0, 2.0, 3.0}, {0.0, 0.2, 1.2, 0.0}};
+  EXPECT_NEAR(*first_rise_to(s, 0.7), 1.5, 1e-12);
+  EXPECT_NEAR(*first_rise_to(s, 0.2), 1.0, 1e-12);
+  EXPECT_FALSE(first_rise_to(s, 2.0));
+  EXPECT_FALSE(first_rise_to(s, 0.7, 2.5));
+}
+
+TEST(Series, PeriodOfASineFromZeroCrossingsAndAutocorrelation) {
+  const double period = 1.7;
+  const Series s = sampled(0.0, 20.0, 0.01, [&](double t) { return 5.0 + 0.3 * std::sin(2 * std::numbers::pi * t / period + 0.4); });
+  const PeriodEstimate z = period_from_zero_crossings(s);
+  EXPECT_NEAR(z.period, period, 1e-4);
+  EXPECT_GE(z.crossings, 22u);
+  EXPECT_NEAR(period_from_autocorrelation(s), period, 0.01);
+  // A decaying oscillation sampled coarsely (as frames are): still the period within a few percent.
+  const Series d = sampled(0.0, 30.0, 0.1, [](double t) { return 10.0 + std::exp(-t / 20.0) * std::cos(2 * std::numbers::pi * t / 8.0); });
+  EXPECT_NEAR(period_from_zero_crossings(d).period, 8.0, 0.1);
+  EXPECT_NEAR(period_from_autocorrelation(d), 8.0, 0.25);
+  // Too short a record for a period.
+  EXPECT_THROW(period_from_zero_crossings(sampled(0.0, 1.0, 0.01, [&](double t) { return std::sin(2 * std::numbers::pi * t / period); })),
+               AnalysisError);
+}
+
+TEST(Series, ObservedOrder) {
+  // e = C dx^2 gives p = 2; e = C dx gives 1.
+  EXPECT_NEAR(observed_order(3.0 * 0.04, 0.2, 3.0 * 0.01, 0.1), 2.0, 1e-12);
+  EXPECT_NEAR(observed_order(0.5 * 0.4, 0.4, 0.5 * 0.1, 0.1), 1.0, 1e-12);
+  EXPECT_THROW(observed_order(0.0, 0.2, 0.1, 0.1), AnalysisError);
+  EXPECT_THROW(observed_order(0.1, 0.1, 0.1, 0.2), AnalysisError);
+}
+
+TEST(Table, ParsesCommentsHeaderAndRowsAndNamesBadLines) {
+  const Table t = parse_csv_table("# source: here\n# scaling: T = t\nT,Z\n0.5, 1.0\n\n1.5,2.5\n", "test.csv");
+  EXPECT_EQ(t.comments, (std::vector<std::string>{"source: here", "scaling: T = t"}));
+  EXPECT_EQ(t.columns, (std::vector<std::string>{"T", "Z"}));
+  ASSERT_EQ(t.rows.size(), 2u);
+  EXPECT_EQ(t.values("Z"), (std::vector<double>{1.0, 2.5}));
+  EXPECT_EQ(t.series("T", "Z").t, (std::vector<double>{0.5, 1.5}));
+  try {
+    parse_csv_table("T,Z\n0.5,1.0\n0.7,abc\n", "bad.csv");
+    FAIL() << "expected an error";
+  } catch (const AnalysisError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.csv:3"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("'abc'"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(parse_csv_table("T,Z\n0.5\n", "short.csv"), AnalysisError);
+  EXPECT_THROW(parse_csv_table("# only comments\n", "empty.csv"), AnalysisError);
+  EXPECT_THROW(t.values("X"), AnalysisError);
+  // Written back with its provenance.
+  EXPECT_EQ(parse_csv_table(csv_text(t), "again").comments, t.comments);
+}
+
+TEST(ReferenceData, EveryFileIsEmbeddedWithItsProvenance) {
+  ASSERT_GE(reference_files().size(), 6u);
+  for (const auto& f : reference_files()) {
+    const Table t = reference_table(f.name);
+    EXPECT_FALSE(t.comments.empty()) << f.name;
+    EXPECT_FALSE(t.rows.empty()) << f.name;
+  }
+  EXPECT_EQ(reference_table("mm1952_n2sq2_a2.25in_front_table2.csv").rows.size(), 15u);
+  EXPECT_THROW(reference_table("no_such.csv"), AnalysisError);
+}
+
+TEST(Waves, StokerAndRitterSpeedsAndTheFirstModePeriod) {
+  EXPECT_NEAR(stoker_bore_speed_ratio(0.4), 0.938224, 1e-9);  // a row of the table
+  EXPECT_NEAR(stoker_bore_speed_ratio(0.0), 2.0, 1e-12);      // Ritter
+  EXPECT_NEAR(stoker_bore_speed_ratio(0.45), 0.5 * (0.938224 + 0.944391), 1e-9);
+  EXPECT_THROW(stoker_bore_speed_ratio(0.95), AnalysisError);
+  EXPECT_THROW(stoker_bore_speed_ratio(-0.1), AnalysisError);
+  // Deep water: 2 pi / sqrt(g k); shallow: 2L / sqrt(g h).
+  EXPECT_NEAR(first_mode_period(2.0, 100.0, 9.81), 2 * std::numbers::pi / std::sqrt(9.81 * std::numbers::pi / 2.0), 1e-9);
+  EXPECT_NEAR(first_mode_period(100.0, 0.1, 9.81), 200.0 / std::sqrt(9.81 * 0.1), 0.01);
+}
+
+TEST(Waves, TransitsOfACrestBouncingAtAKnownSpeed) {
+  // A crest going back and forth across a 20 m tank at 5 m/s (a triangle wave), sampled every 0.1 s.
+  const double width = 20.0, speed = 5.0;
+  const Series x = sampled(0.0, 16.0, 0.1, [&](double t) {
+    const double s = std::fmod(speed * t, 2 * width);
+    return s < width ? s : 2 * width - s;
+  });
+  const auto transits = find_transits(x, width);
+  ASSERT_EQ(transits.size(), 4u);
+  for (std::size_t k = 0; k < transits.size(); ++k) {
+    EXPECT_NEAR(transits[k].speed, speed, 1e-9);
+    EXPECT_EQ(transits[k].direction, k % 2 == 0 ? 1 : -1);
+  }
+  EXPECT_NEAR(transits[0].t_start, 1.0, 1e-9);
+  EXPECT_NEAR(transits[0].t_end, 3.0, 1e-9);
+  // A crest that jumps between two humps is not a transit.
+  const Series jumping = sampled(0.0, 4.0, 0.1, [&](double t) { return std::fmod(t, 0.2) < 0.1 ? 6.0 : 14.0; });
+  EXPECT_TRUE(find_transits(jumping, width).empty());
+}
+
+namespace {
+
+// A frame of fluid particles on a dx lattice under a surface y = surface(x), over [0, width].
+Frame lattice_frame(double t, double dx, double width, const std::function<double(double)>& surface) {
+  Frame f;
+  f.time = t;
+  f.dx = dx;
+  std::uint32_t id = 0;
+  for (double x = 0.5 * dx; x < width; x += dx)
+    for (double y = 0.5 * dx; y < surface(x); y += dx) {
+      f.position.push_back(x);
+      f.position.push_back(y);
+      f.velocity.insert(f.velocity.end(), {0.0, 0.0});
+      f.density.push_back(1000.0);
+      f.pressure.push_back(0.0);
+      f.kind.push_back(0);
+      f.id.push_back(id++);
+    }
+  return f;
+}
+
+}  // namespace
+
+TEST(Waves, ABoreMovingAtAKnownSpeed) {
+  // A wet-bed dam break idealised: depth 2 ahead of a bore, 3.3 behind it, the bore at x = 3 + 6.5 t in a
+  // 20 m tank, and the reservoir 5 deep over x < 1. Frames every 0.1 s; dx = 0.05.
+  const double width = 20.0, dx = 0.05, speed = 6.5;
+  std::vector<Frame> frames;
+  for (int k = 0; k <= 30; ++k) {
+    const double t = 0.1 * k;
+    const double bore = k == 0 ? 3.0 : 3.0 + speed * t;
+    frames.push_back(lattice_frame(t, dx, width, [&](double x) {
+      if (k == 0) return x < 3.0 ? 5.0 : 2.0;
+      return x < 1.0 ? 5.0 : (x < bore ? 3.3 : 2.0);
+    }));
+  }
+  const WaveAnalysis a = analyze_waves(frames, width, 9.81, {});
+  EXPECT_NEAR(a.upstream_depth, 5.0, 1e-9);
+  EXPECT_NEAR(a.downstream_depth, 2.0, 1e-9);
+  EXPECT_TRUE(a.dam_break);
+  EXPECT_NEAR(a.front_threshold, 0.3, 1e-9);
+  ASSERT_TRUE(a.front_fit);
+  EXPECT_NEAR(a.front_fit->slope, speed, 0.02);
+  // The bore reaches x = 20 - 2 dx (the band of the far-wall height) at t = (20 - 0.1 - 3) / 6.5.
+  ASSERT_TRUE(a.far_wall_arrival);
+  EXPECT_NEAR(*a.far_wall_arrival, (width - 2 * dx - 3.0) / speed, 0.1);
+  ASSERT_TRUE(a.stoker_speed);
+  EXPECT_NEAR(*a.stoker_speed, 0.938224 * std::sqrt(9.81 * 5.0), 1e-6);
+  EXPECT_NEAR(a.mean_depth, (5.0 * 3.0 + 2.0 * 17.0) / 20.0, 1e-9);
+}
+
+TEST(Waves, ASinusoidalCrestWithAKnownPeriod) {
+  // A first-mode standing wave, surface 1 + 0.2 cos(pi x / L) cos(2 pi t / T), T = 3 s, in a 2 m tank:
+  // the crest sits at one wall, then the other, and the centre of mass oscillates with period T.
+  const double width = 2.0, dx = 0.01, period = 3.0;
+  std::vector<Frame> frames;
+  for (int k = 0; k <= 200; ++k) {
+    const double t = 0.05 * k;
+    frames.push_back(lattice_frame(t, dx, width, [&](double x) {
+      return 1.0 + 0.2 * std::cos(std::numbers::pi * x / width) * std::cos(2 * std::numbers::pi * t / period);
+    }));
+  }
+  const WaveAnalysis a = analyze_waves(frames, width, 9.81, {});
+  ASSERT_TRUE(a.period_zero_crossings);
+  EXPECT_NEAR(a.period_zero_crossings->period, period, 0.03);
+  ASSERT_TRUE(a.period_autocorrelation);
+  EXPECT_NEAR(*a.period_autocorrelation, period, 0.05);
+  // The crest: at the left wall at t = 0 and at the right wall half a period later.
+  // On the dx lattice the top row under the crest is flat over the last ~0.14 m next to the wall; the
+  // crest is the first particle of that row.
+  EXPECT_LT(a.crest_x[0], 0.05);
+  EXPECT_GT(a.crest_x[30], 1.85);  // t = 1.5 s
+  EXPECT_NEAR(a.crest_height[0], 1.2, dx);
+  EXPECT_NEAR(a.mean_depth, 1.0, dx);
+  // A smooth surface is no dam break: no Stoker speed, the front threshold from the mean depth.
+  EXPECT_FALSE(a.dam_break);
+  EXPECT_FALSE(a.stoker_speed);
+  EXPECT_NEAR(a.front_threshold, 0.1 * a.mean_depth, 1e-12);
+}
+
+TEST(Plots, SvgHasAxesSeriesLegendAndEscapedText) {
+  Plot p;
+  p.title = "a < b & c";
+  p.x_label = "t (s)";
+  p.y_label = "x (m)";
+  p.series = {curve("line", {0.0, 1.0, 2.0}, {0.0, 1.0, 4.0}),
+              curve("points", {0.5, 1.5}, {0.2, 2.2}, PlotSeries::Style::markers)};
+  p.bands = {{0.0, 1.0, "window"}};
+  const std::string svg = svg_plot(p);
+  EXPECT_EQ(svg.rfind("<svg", 0), 0u);
+  EXPECT_NE(svg.find("</svg>"), std::string::npos);
+  EXPECT_NE(svg.find("a &lt; b &amp; c"), std::string::npos);
+  EXPECT_EQ(svg.find("a < b"), std::string::npos);
+  EXPECT_NE(svg.find("<path d=\"M"), std::string::npos);
+  std::size_t circles = 0;
+  for (auto pos = svg.find("<circle"); pos != std::string::npos; pos = svg.find("<circle", pos + 1)) ++circles;
+  EXPECT_EQ(circles, 3u);  // two markers and the legend's
+  EXPECT_NE(svg.find(">window<"), std::string::npos);
+  auto expect_ticks = [](const std::vector<double>& got, const std::vector<double>& want) {
+    ASSERT_EQ(got.size(), want.size());
+    for (std::size_t i = 0; i < got.size(); ++i) EXPECT_NEAR(got[i], want[i], 1e-12);
+  };
+  expect_ticks(nice_ticks(0.0, 1.0), {0.0, 0.2, 0.4, 0.6, 0.8, 1.0});
+  expect_ticks(nice_ticks(-3.0, 7.0, 5), {-2.0, 0.0, 2.0, 4.0, 6.0});
+  // A logarithmic axis cannot show zero; an empty plot is an error.
+  p.log_y = true;
+  EXPECT_THROW(svg_plot(p), AnalysisError);
+  EXPECT_THROW(svg_plot(Plot{}), AnalysisError);
+}
+
+TEST(Plots, HtmlReportEmbedsFiguresAndEscapesText) {
+  HtmlReport r("Report <1>");
+  r.paragraph("x < y");
+  r.table({"a", "b"}, {{"PASS", "1"}, {"FAIL", "2"}});
+  r.figure("<svg></svg>", "caption & more");
+  const std::string html = r.html();
+  EXPECT_NE(html.find("<title>Report &lt;1&gt;</title>"), std::string::npos);
+  EXPECT_NE(html.find("<p>x &lt; y</p>"), std::string::npos);
+  EXPECT_NE(html.find("<td class=\"pass\">PASS</td>"), std::string::npos);
+  EXPECT_NE(html.find("<td class=\"fail\">FAIL</td>"), std::string::npos);
+  EXPECT_NE(html.find("<figure>\n<svg></svg>"), std::string::npos);
+  EXPECT_NE(html.find("caption &amp; more"), std::string::npos);
+}
+
+TEST(Convergence, ErrorsAndOrdersFromKnownFronts) {
+  // Fronts x = 2t + 0.5 dx (first order) and arrivals 3 + 4 dx^2 (second order) against the finest.
+  ConvergenceStudy study;
+  for (double dx : {0.4, 0.2, 0.1, 0.05}) {
+    ConvergenceLevel l;
+    l.dx = dx;
+    l.front = sampled(0.0, 5.0, 0.1, [&](double t) { return 2.0 * t + 0.5 * dx; });
+    l.arrival = 3.0 + 4.0 * dx * dx;
+    study.levels.push_back(l);
+  }
+  compute_convergence_errors(study);
+  const auto& L = study.levels;
+  EXPECT_NEAR(L[0].front_error, 0.5 * (0.4 - 0.05), 1e-9);
+  EXPECT_NEAR(L[0].arrival_error, 4.0 * (0.16 - 0.0025), 1e-9);
+  EXPECT_NEAR(L[0].front_order, std::log((0.4 - 0.05) / (0.2 - 0.05)) / std::log(2.0), 1e-9);
+  EXPECT_NEAR(L[1].arrival_order, std::log((0.04 - 0.0025) / (0.01 - 0.0025)) / std::log(2.0), 1e-9);
+  EXPECT_TRUE(std::isnan(L[2].front_order));  // no finer level with an error
+  EXPECT_TRUE(std::isnan(L[3].front_error));  // the reference itself
+  // The finest run must reach the far wall.
+  study.levels.back().arrival.reset();
+  EXPECT_THROW(compute_convergence_errors(study), AnalysisError);
+}
+
+namespace {
+
+void write_probe(const fs::path& dir, const std::string& name, const std::string& header, const Series& s) {
+  std::string text = header + "\n";
+  for (std::size_t i = 0; i < s.size(); ++i) text += fmt::format("{},{}\n", s.t[i], s.y[i]);
+  fs::create_directories(dir / "probes");
+  write_file_atomic(dir / "probes" / (name + ".csv"), text);
+}
+
+}  // namespace
+
+TEST(Validation, MartinMoyceScalingRecoversTheDataThatWentIn) {
+  // A "run" whose probes hold Martin & Moyce's own curves converted to metres and seconds: the
+  // evaluation must convert back (T = t sqrt(2g/a), Z = (x + dx/2)/a; tau = t sqrt(g/a), H = h/2a)
+  // and find no difference; shifted by 0.1 in Z it must find 0.1.
+  const Case c = *load_builtin_case("martin_moyce");
+  const double a = c.water[0].max[0], g = -c.gravity[1];
+  const Series front = reference_table("mm1952_n2sq2_a2.25in_front_table2.csv").series("T", "Z");
+  const Series height = reference_table("mm1952_n2sq2_a2.25in_height_table6.csv").series("tau", "H");
+  for (double shift : {0.0, 0.1}) {
+    TempDir dir;
+    Series x, h;
+    for (std::size_t i = 0; i < front.size(); ++i) {
+      x.t.push_back(front.t[i] / std::sqrt(2 * g / a));
+      x.y.push_back((front.y[i] + shift) * a - 0.5 * c.dx);
+    }
+    for (std::size_t i = 0; i < height.size(); ++i) {
+      h.t.push_back(height.t[i] / std::sqrt(g / a));
+      h.y.push_back(height.y[i] * 2 * a);
+    }
+    write_probe(dir.path, "front", "time,distance", x);
+    write_probe(dir.path, "column_height", "time,height", h);
+    const ValidationResult r = evaluate_martin_moyce(c, dir.path, full_bounds());
+    ASSERT_EQ(r.comparisons.size(), 3u);
+    EXPECT_NEAR(r.comparisons[0].difference.rms, shift, 1e-9);
+    EXPECT_EQ(r.comparisons[0].difference.points, 13u);  // T <= 3
+    EXPECT_NEAR(r.comparisons[2].difference.rms, 0.0, 1e-9);
+    EXPECT_EQ(r.passed(), shift < 0.25);
+    EXPECT_EQ(r.figures.size(), 2u);
+  }
+}
+
+TEST(Validation, BuchnerScalingAndImpactTimeRecoverTheDataThatWentIn) {
+  const Case c = *load_builtin_case("buchner");
+  const double H = c.water[0].max[1], g = -c.gravity[1];
+  const Series data = reference_table("buchner2002_p_wall_pysph.csv").series("tstar", "pstar");
+  TempDir dir;
+  // Strictly increasing times for a probe file: the data's repeated times nudged apart.
+  Series p;
+  for (std::size_t i = 0; i < data.size(); ++i) {
+    double t = data.t[i] / std::sqrt(g / H);
+    if (!p.t.empty() && t <= p.t.back()) t = p.t.back() + 1e-9;
+    p.t.push_back(t);
+    p.y.push_back(data.y[i] * c.rest_density * g * H);
+  }
+  write_probe(dir.path, "wall_pressure", "time,pressure", p);
+  const ValidationResult r = evaluate_buchner(c, dir.path, full_bounds());
+  ASSERT_EQ(r.checks.size(), 2u);
+  EXPECT_LT(r.checks[0].value, 0.02);  // only the nudged duplicates differ
+  EXPECT_NEAR(r.checks[1].value, 0.0, 1e-6);
+  EXPECT_TRUE(r.passed());
+}
+
+TEST(Validation, MissingProbeIsAClearError) {
+  TempDir dir;
+  try {
+    evaluate_koshizuka_oka(*load_builtin_case("koshizuka_oka"), dir.path, full_bounds());
+    FAIL() << "expected an error";
+  } catch (const AnalysisError& e) {
+    EXPECT_NE(std::string(e.what()).find("front"), std::string::npos) << e.what();
+  }
+}

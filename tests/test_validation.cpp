@@ -1,0 +1,158 @@
+// `sluice validate --quick`: the three validation cases at the coarse resolution the test suite can
+// afford (column width over dx = 20 for Martin & Moyce and Koshizuka & Oka, column height over dx = 30
+// for Buchner), run by the real binary. The bounds below are the ones that hold at that resolution
+// (measured when they were set, with a margin: README, "Validation"); the full report's targets are
+// checked by `sluice validate` itself. Also: bad input to analyze, convergence and validate.
+#include <gtest/gtest.h>
+
+#include <fmt/format.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream s(line);
+  std::string item;
+  while (std::getline(s, item, ',')) out.push_back(item);
+  return out;
+}
+
+// checks.csv: check -> value.
+std::map<std::string, double> read_checks(const fs::path& path) {
+  std::map<std::string, double> out;
+  std::istringstream in(read_text(path));
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "check,value,bound,passed");
+  while (std::getline(in, line)) {
+    const auto f = split(line);
+    if (f.size() == 4) out[f[0]] = std::stod(f[1]);
+  }
+  return out;
+}
+
+// validation.csv: case.comparison -> (rms, max).
+std::map<std::string, std::pair<double, double>> read_comparisons(const fs::path& path) {
+  std::map<std::string, std::pair<double, double>> out;
+  std::istringstream in(read_text(path));
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line.rfind("case,comparison,points,rms,max,mean", 0), 0u) << line;
+  while (std::getline(in, line)) {
+    const auto f = split(line);
+    if (f.size() >= 6) out[f[0] + "." + f[1]] = {std::stod(f[3]), std::stod(f[4])};
+  }
+  return out;
+}
+
+}  // namespace
+
+// One test (one run of the three cases, about 30 s on one core): the suite runs each test in its own
+// process, so splitting it would run the cases again for each part.
+TEST(QuickValidation, AgreesWithExperimentsAtCoarseResolution) {
+  const fs::path dir = fs::temp_directory_path() / fmt::format("sluice_validate_quick_{}", ::getpid());
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  // One thread: the suite runs tests side by side on a shared machine.
+  const std::string command =
+      fmt::format("'{}' validate --quick --threads 1 -q -o '{}' > '{}' 2> '{}'", SLUICE_BIN, (dir / "out").string(),
+                  (dir / "stdout.txt").string(), (dir / "stderr.txt").string());
+  const int status = std::system(command.c_str());
+  const int exit_status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  EXPECT_EQ(exit_status, 0) << read_text(dir / "stdout.txt") << read_text(dir / "stderr.txt");
+
+  // The report: one page with the four plots (two for Martin & Moyce, Koshizuka & Oka, Buchner).
+  const std::string html = read_text(dir / "out" / "report.html");
+  ASSERT_FALSE(html.empty());
+  std::size_t figures = 0;
+  for (auto pos = html.find("<svg"); pos != std::string::npos; pos = html.find("<svg", pos + 1)) ++figures;
+  EXPECT_EQ(figures, 4u);
+  EXPECT_NE(html.find("Martin &amp; Moyce"), std::string::npos);
+  EXPECT_NE(html.find("Buchner"), std::string::npos);
+  EXPECT_NE(read_text(dir / "stdout.txt").find("PASS martin_moyce"), std::string::npos);
+
+  const auto c = read_checks(dir / "out" / "checks.csv");
+  const auto m = read_comparisons(dir / "out" / "validation.csv");
+  for (const char* id : {"martin_moyce.front_rms", "martin_moyce.height_rms", "koshizuka_oka.front_rms",
+                         "buchner.pressure_rms", "buchner.plateau_rms", "buchner.impact_time"})
+    ASSERT_TRUE(c.count(id)) << id;
+  ASSERT_TRUE(m.count("martin_moyce.front_window"));
+  for (const auto& [id, value] : c) std::cout << "measured " << id << " = " << value << "\n";
+
+  // Surge fronts. Martin & Moyce, T <= 3, a/dx = 20: RMS dZ within the full report's target.
+  EXPECT_LE(c.at("martin_moyce.front_rms"), 0.25);
+  EXPECT_LE(m.at("martin_moyce.front_window").second, 0.30);
+  // Koshizuka & Oka, all points (T <= 3.1), L/dx = 20.
+  EXPECT_LE(c.at("koshizuka_oka.front_rms"), 0.30);
+  // Martin & Moyce residual column height, all points.
+  EXPECT_LE(c.at("martin_moyce.height_rms"), 0.08);
+
+  // Buchner wall pressure, H/dx = 30: the whole window 2 <= t* <= 7 (impact spikes and the late-time
+  // scatter included), the quasi-steady plateau 3.5 <= t* <= 5.5, and the impact time (t* at which p*
+  // first reaches 0.25).
+  EXPECT_LE(c.at("buchner.pressure_rms"), 0.60);
+  EXPECT_LE(c.at("buchner.plateau_rms"), 0.25);
+  EXPECT_LE(c.at("buchner.impact_time"), 0.3);
+
+  std::error_code ec;
+  fs::remove_all(dir, ec);
+}
+
+namespace {
+
+struct Outcome {
+  int status = -1;
+  std::string err;
+};
+
+Outcome run_sluice(const std::string& args) {
+  const fs::path err = fs::temp_directory_path() / fmt::format("sluice_analysis_cli_{}.txt", ::getpid());
+  const int status = std::system(fmt::format("'{}' {} > /dev/null 2> '{}'", SLUICE_BIN, args, err.string()).c_str());
+  Outcome o{WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(err)};
+  fs::remove(err);
+  return o;
+}
+
+}  // namespace
+
+// Bad input to analyze, convergence and validate: exit status 2 and a message naming what is wrong,
+// before anything runs.
+TEST(AnalysisCommands, BadInputIsAClearError) {
+  const struct {
+    std::string args, expected;
+  } cases[] = {
+      {"analyze /nonexistent/run", "/nonexistent/run: no such directory"},
+      {"analyze " + fs::temp_directory_path().string(), "no checkpoint.bin"},
+      {"convergence dam_break --dx 0.2,0.1", "needs at least 3 spacings; got 2"},
+      {"convergence dam_break --dx 0.2,abc,0.1", "'abc' is not a positive number"},
+      {"convergence dam_break --dx 0.2,0.1,0.1", "0.1 is given twice"},
+      {"convergence no_such_case --dx 0.2,0.1,0.05", "no_such_case: no such case file"},
+      {"validate --case no_such_case", "--case no_such_case: no validation case of that name"},
+  };
+  for (const auto& c : cases) {
+    const Outcome o = run_sluice(c.args);
+    EXPECT_EQ(o.status, 2) << c.args << "\n" << o.err;
+    EXPECT_NE(o.err.find("sluice: error: "), std::string::npos) << c.args << "\n" << o.err;
+    EXPECT_NE(o.err.find(c.expected), std::string::npos) << c.args << "\n" << o.err;
+  }
+}
