@@ -14,7 +14,7 @@ build: setup
 	@cmake --build --preset release -j $(JOBS)
 
 run: build
-	./$(BUILD_DIR)/sluice run -o out
+	./$(BUILD_DIR)/sluice run -o out/dam_break --render speed
 
 test: build
 	ctest --preset release -j $(JOBS) --label-exclude long

@@ -7,7 +7,7 @@ packages=(
   build-essential cmake pkg-config
   libcli11-dev libtomlplusplus-dev libfmt-dev zlib1g-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  libpng-dev libgif-dev
+  libpng-dev libgif-dev libfreetype-dev fonts-dejavu-core
   python3 python3-numpy python3-meshio python3-pil
 )
 # `make fuzz` (scripts/setup.sh fuzz) also needs clang with its libFuzzer and sanitizer runtimes, and

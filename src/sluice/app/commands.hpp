@@ -4,8 +4,10 @@
 
 #include <CLI/CLI.hpp>
 
+#include <filesystem>
 #include <functional>
 #include <stdexcept>
+#include <string>
 
 namespace sluice::app {
 
@@ -28,8 +30,14 @@ struct Command {
 Command add_run_command(CLI::App& app);
 Command add_cases_command(CLI::App& app);
 Command add_init_command(CLI::App& app);
+Command add_render_command(CLI::App& app);
 Command add_analyze_command(CLI::App& app);      // analysis_commands.cpp
 Command add_convergence_command(CLI::App& app);  // analysis_commands.cpp
 Command add_validate_command(CLI::App& app);     // analysis_commands.cpp
+
+// For `sluice run --render FIELD` (render_command.cpp): the field is checked before the run (BadInput
+// if unknown), and the run's animation drawn after it.
+void check_render_field(const std::string& field);
+void render_after_run(const std::filesystem::path& output_dir, const std::string& field, bool quiet);
 
 }  // namespace sluice::app

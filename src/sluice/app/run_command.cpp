@@ -40,13 +40,14 @@ Case resolve_case(const std::string& name_or_path) {
 }
 
 struct RunArgs {
-  std::string case_arg, output, restart;
+  std::string case_arg, output, restart, render_field;
   std::vector<std::string> sets;
   int threads = 0;
   bool quiet = false;
 };
 
 int run(const RunArgs& a) {
+  if (!a.render_field.empty()) check_render_field(a.render_field);
   Case c;
   RunOptions options;
   options.threads = a.threads > 0 ? a.threads : omp_get_num_procs();
@@ -78,6 +79,7 @@ int run(const RunArgs& a) {
   }
   const RunResult r = run_case(c, options, std::cerr);
   std::cout << format_summary(r);
+  if (!a.render_field.empty() && !r.interrupted) render_after_run(options.output_dir, a.render_field, a.quiet);
   return r.interrupted ? exit_interrupted : 0;
 }
 
@@ -95,6 +97,9 @@ Command add_run_command(CLI::App& app) {
                   "Continue from a checkpoint file (e.g. out/dam_break/checkpoint.bin); with it, --set may only "
                   "change time.end");
   cmd->add_flag("-q,--quiet", args->quiet, "No progress line");
+  cmd->add_option("--render", args->render_field,
+                  "At the end, draw an animated GIF of this field into the output directory (vx, vy, speed, "
+                  "pressure, density; see `sluice render`)");
   return {cmd, [args] { return run(*args); }};
 }
 
