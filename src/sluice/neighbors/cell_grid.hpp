@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 namespace sluice {
@@ -96,6 +97,51 @@ class CellGrid {
           f(cell_start_[row + x_lo], cell_start_[row + x_hi + 1]);
         }
     }
+  }
+
+  // Calls f(begin, end) for the ranges of (sorted) particle indices that hold the "forward" half of
+  // the neighbours of particle i in cell c: the particles after i in its own cell and those of the
+  // adjacent cells that come later in the cell order. Over all i, every pair of particles in adjacent
+  // cells is visited exactly once, from its first particle. Cells are numbered with x fastest, so
+  // the forward cells of a row are one range with i's own cell.
+  template <class F>
+  void for_each_forward_range(std::uint32_t i, std::uint32_t c, F&& f) const {
+    std::array<int, Dim> coord{};
+    std::uint32_t rest = c;
+    for (int d = 0; d < Dim; ++d) {
+      coord[d] = static_cast<int>(rest % static_cast<std::uint32_t>(count_[d]));
+      rest /= static_cast<std::uint32_t>(count_[d]);
+    }
+    const int x_lo = std::max(coord[0] - 1, 0);
+    const int x_hi = std::min(coord[0] + 1, count_[0] - 1);
+    const std::size_t own_row = c - static_cast<std::uint32_t>(coord[0]);
+    f(i + 1, cell_start_[own_row + x_hi + 1]);
+    if constexpr (Dim == 2) {
+      if (coord[1] + 1 < count_[1]) {
+        const std::size_t row = own_row + count_[0];
+        f(cell_start_[row + x_lo], cell_start_[row + x_hi + 1]);
+      }
+    } else if constexpr (Dim == 3) {
+      if (coord[1] + 1 < count_[1]) {
+        const std::size_t row = own_row + count_[0];
+        f(cell_start_[row + x_lo], cell_start_[row + x_hi + 1]);
+      }
+      if (coord[2] + 1 < count_[2])
+        for (int y = std::max(coord[1] - 1, 0); y <= std::min(coord[1] + 1, count_[1] - 1); ++y) {
+          const std::size_t row = (static_cast<std::size_t>(coord[2] + 1) * count_[1] + y) * count_[0];
+          f(cell_start_[row + x_lo], cell_start_[row + x_hi + 1]);
+        }
+    }
+  }
+
+  // Bands: the layers of cells along the slowest coordinate (rows in 2D, planes in 3D). The forward
+  // neighbours of a particle lie in its own band and the next one, so bands of the same parity can be
+  // processed at the same time without two of them writing to the same particle.
+  [[nodiscard]] std::size_t band_count() const { return static_cast<std::size_t>(count_[Dim - 1]); }
+  // The (sorted) particle indices of band b: [first, last).
+  [[nodiscard]] std::pair<std::uint32_t, std::uint32_t> band_particles(std::size_t b) const {
+    const std::size_t stride = cell_count() / band_count();
+    return {cell_start_[b * stride], cell_start_[(b + 1) * stride]};
   }
 
  private:

@@ -1,6 +1,7 @@
 // Smoothing kernels W(r, h) with analytic derivatives dW/dr; support radius 2h.
 #pragma once
 
+#include <algorithm>
 #include <numbers>
 
 namespace sluice {
@@ -23,9 +24,10 @@ struct CubicSpline {
 
   [[nodiscard]] double value(double r) const { return r < support * h ? value_inside(r) : 0.0; }
 
-  // W for 0 <= r < 2h, branch-free.
+  // W for 0 <= r < 2h, branch-free; exactly 0 for r >= 2h (q is clamped at 2, so padding entries of
+  // a neighbour list placed outside the support contribute nothing).
   [[nodiscard]] double value_inside(double r) const {
-    const double q = r * inv_h;
+    const double q = std::min(r * inv_h, support);  // beyond the support: exactly 0
     const double t = 2.0 - q;
     const double inner = 1.0 - 1.5 * q * q + 0.75 * q * q * q;
     const double outer = 0.25 * t * t * t;
@@ -35,9 +37,9 @@ struct CubicSpline {
   // dW/dr (negative inside the support, zero outside and at r = 0).
   [[nodiscard]] double derivative(double r) const { return r < support * h ? derivative_inside(r) : 0.0; }
 
-  // dW/dr for 0 <= r < 2h, without branches so that the pair loop vectorises.
+  // dW/dr for 0 <= r < 2h, without branches so that the pair loop vectorises; exactly 0 for r >= 2h.
   [[nodiscard]] double derivative_inside(double r) const {
-    const double q = r * inv_h;
+    const double q = std::min(r * inv_h, support);  // beyond the support: exactly 0
     const double t = 2.0 - q;
     const double inner = -3.0 * q + 2.25 * q * q;
     const double outer = -0.75 * t * t;
@@ -63,7 +65,7 @@ struct WendlandC2 {
   [[nodiscard]] double value(double r) const { return r < support * h ? value_inside(r) : 0.0; }
 
   [[nodiscard]] double value_inside(double r) const {
-    const double q = r * inv_h;
+    const double q = std::min(r * inv_h, support);  // beyond the support: exactly 0
     const double t = 1.0 - 0.5 * q;
     return norm * t * t * t * t * (2.0 * q + 1.0);
   }
@@ -71,7 +73,7 @@ struct WendlandC2 {
   [[nodiscard]] double derivative(double r) const { return r < support * h ? derivative_inside(r) : 0.0; }
 
   [[nodiscard]] double derivative_inside(double r) const {
-    const double q = r * inv_h;
+    const double q = std::min(r * inv_h, support);  // beyond the support: exactly 0
     const double t = 1.0 - 0.5 * q;
     return -5.0 * norm * inv_h * q * t * t * t;
   }

@@ -90,12 +90,16 @@ struct NeighborList {
 // cell row are consecutive indices; the portable loop is branch-free (every candidate is written, only
 // neighbours advance the count), and with AVX-512 eight candidates are tested at once and the
 // neighbours compress-stored, which is where explicit SIMD pays: this search is half the pair work.
-template <int Dim>
-void collect_neighbors(const CellGrid<Dim>& grid, std::uint32_t cell, const std::array<double, Dim>& xi,
+//
+// `for_each_range(f)` calls f(begin, end) for each candidate range, as CellGrid's
+// for_each_neighbor_range (all neighbours) or for_each_forward_range (each pair once) do.
+template <int Dim, class ForEachRange>
+void collect_in_ranges(ForEachRange&& for_each_range, const std::array<double, Dim>& xi,
                        const std::array<const double*, Dim>& x, double support2, double min_r2,
                        NeighborList<Dim>& list) {
   std::uint32_t count = 0;
-  grid.for_each_neighbor_range(cell, [&](std::uint32_t begin, std::uint32_t end) {
+  for_each_range([&](std::uint32_t begin, std::uint32_t end) {
+    if (end <= begin) return;
     list.reserve(count + (end - begin) + 8);
     std::uint32_t* __restrict out = list.index.data();
     std::array<double*, Dim> sep{};
@@ -112,9 +116,12 @@ void collect_neighbors(const CellGrid<Dim>& grid, std::uint32_t cell, const std:
         const __m512d dy = _mm512_sub_pd(xi1, _mm512_maskz_loadu_pd(valid, x[1] + j));
         const __m512d r2 = _mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy));
         const __mmask8 hit = valid & _mm512_cmp_pd_mask(r2, upper, _CMP_LT_OQ) & _mm512_cmp_pd_mask(r2, lower, _CMP_GT_OQ);
-        _mm256_mask_compressstoreu_epi32(out + count, hit, _mm256_add_epi32(_mm256_set1_epi32(static_cast<int>(j)), lane));
-        _mm512_mask_compressstoreu_pd(sep[0] + count, hit, dx);
-        _mm512_mask_compressstoreu_pd(sep[1] + count, hit, dy);
+        // Compress in registers and store all eight lanes (the list has room for them): on AMD Zen
+        // the compress-to-memory form is microcoded and several times slower.
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + count),
+                            _mm256_maskz_compress_epi32(hit, _mm256_add_epi32(_mm256_set1_epi32(static_cast<int>(j)), lane)));
+        _mm512_storeu_pd(sep[0] + count, _mm512_maskz_compress_pd(hit, dx));
+        _mm512_storeu_pd(sep[1] + count, _mm512_maskz_compress_pd(hit, dy));
         count += static_cast<std::uint32_t>(__builtin_popcount(hit));
       }
       return;
@@ -134,12 +141,28 @@ void collect_neighbors(const CellGrid<Dim>& grid, std::uint32_t cell, const std:
   list.count = count;
 }
 
-// Fills p.acceleration (fluid) and p.density_rate (all particles).
+// All neighbours j != i of a particle at xi in cell `cell`.
+template <int Dim>
+void collect_neighbors(const CellGrid<Dim>& grid, std::uint32_t cell, const std::array<double, Dim>& xi,
+                       const std::array<const double*, Dim>& x, double support2, double min_r2,
+                       NeighborList<Dim>& list) {
+  collect_in_ranges<Dim>([&](auto&& f) { grid.for_each_neighbor_range(cell, f); }, xi, x, support2, min_r2, list);
+}
+
+// Fills p.acceleration (fluid particles; wall entries are scratch) and p.density_rate (all particles).
 //
-// Per particle i, a first pass collects the neighbours within the support from the cell grid; the
-// second pass sums the pair terms over exactly those, in a loop written branch-free so that the
-// compiler vectorises it. `#pragma omp simd` allows the vectorised sums, whose order is fixed by the
-// binary and the neighbour order, never by the thread count.
+// Each pair is evaluated once (Newton's third law): particle i collects its forward neighbours from
+// the cell grid (CellGrid::for_each_forward_range), the pair terms are summed into i in a loop written
+// branch-free so that the compiler vectorises it, and the opposite contributions are added to the
+// neighbours j afterwards. Threads work on bands of cells (rows in 2D): a band's pairs reach only into
+// the next band, so all even bands run at once, then all odd ones. Every particle therefore receives
+// its contributions in one fixed order — its lower band's, then its own band's, in index order —
+// whatever the number of threads, and the results are the same bit for bit on any thread count.
+// `#pragma omp simd` allows the vectorised sums, whose order is fixed by the binary and the neighbour
+// order, never by the thread count.
+// Neighbour lists are padded to a multiple of this many entries (whole SIMD vectors).
+inline constexpr std::uint32_t kLanes = 16;
+
 template <int Dim, class Kernel, bool WithArtificialPressure = false>
 RateSummary compute_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const Kernel& kernel,
                           const RateSettings<Dim>& s, const ParticleTerms& t, int threads) {
@@ -162,7 +185,7 @@ RateSummary compute_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const Ke
 
   std::array<const double*, Dim> x{};
   for (int d = 0; d < Dim; ++d) x[d] = p.position[d].data();
-  // Component pointers; unused dimensions point at x, and are never read.
+  // Component pointers; unused dimensions point at x (or at acc0), and are never read or written.
   const double* __restrict v0 = p.velocity[0].data();
   const double* __restrict v1 = p.velocity[Dim > 1 ? 1 : 0].data();
   const double* __restrict v2 = p.velocity[Dim > 2 ? 2 : 0].data();
@@ -172,118 +195,171 @@ RateSummary compute_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const Ke
   const double* __restrict hydro_k = t.hydro_k.data();
   const double* __restrict fluid_mask = t.fluid_mask.data();
   const double* __restrict tension = t.tension.data();
-  double* __restrict density_rate = p.density_rate.data();
+  double* const acc0 = p.acceleration[0].data();
+  double* const acc1 = p.acceleration[Dim > 1 ? 1 : 0].data();
+  double* const acc2 = p.acceleration[Dim > 2 ? 2 : 0].data();
+  double* const density_rate = p.density_rate.data();
 
   double max_accel2 = 0.0;
   double max_vij2 = 0.0;
   double max_rho = 0.0;
   double closest2 = support2;
 
-  // Fluid particles before each sorted index: a wall particle with no fluid in its neighbouring
-  // cells has a zero density rate (wall-wall pairs have v_ij = 0) and is skipped.
+  // Fluid particles before each sorted index: a wall particle with no fluid among its forward
+  // candidates has only wall-wall pairs there (v_ij = 0, no diffusion, wall accelerations unused) and
+  // is skipped.
   std::vector<std::uint32_t> fluid_before(static_cast<std::size_t>(n) + 1, 0);
   for (long i = 0; i < n; ++i) fluid_before[i + 1] = fluid_before[i] + (fluid_mask[i] != 0.0);
+  const long bands = static_cast<long>(grid.band_count());
 
 #pragma omp parallel num_threads(threads)
   {
+#pragma omp for schedule(static)
+    for (long i = 0; i < n; ++i) {
+      acc0[i] = 0.0;
+      if constexpr (Dim > 1) acc1[i] = 0.0;
+      if constexpr (Dim > 2) acc2[i] = 0.0;
+      density_rate[i] = 0.0;
+    }
     NeighborList<Dim> neighbors;
     neighbors.reserve(512);
-#pragma omp for schedule(dynamic, 256) reduction(max : max_accel2, max_vij2, max_rho) reduction(min : closest2)
+    std::vector<double> to_j0, to_j1, to_j2, to_j_rho;  // the contributions to the neighbours j
+
+    for (long parity = 0; parity < 2; ++parity) {
+#pragma omp for schedule(dynamic, 1) reduction(max : max_vij2) reduction(min : closest2)
+      for (long band = parity; band < bands; band += 2) {
+        const auto [first, last] = grid.band_particles(static_cast<std::size_t>(band));
+        for (std::uint32_t i = first; i < last; ++i) {
+          const auto forward = [&](auto&& f) { grid.for_each_forward_range(i, cell_of[i], f); };
+          const double fluid_i = fluid_mask[i];
+          if (fluid_i == 0.0) {
+            bool near_fluid = false;
+            forward([&](std::uint32_t begin, std::uint32_t end) {
+              near_fluid = near_fluid || (end > begin && fluid_before[end] > fluid_before[begin]);
+            });
+            if (!near_fluid) continue;
+          }
+          std::array<double, Dim> xi{};
+          for (int d = 0; d < Dim; ++d) xi[d] = x[d][i];
+          collect_in_ranges<Dim>(forward, xi, x, support2, min_r2, neighbors);
+          const std::uint32_t count = neighbors.count;
+          if (count == 0) continue;
+          // Pad the list to whole SIMD vectors with entries outside the support (j = i at a distance
+          // 1.5 support), whose terms are exactly zero: the pair loop then runs only full vectors
+          // instead of a long scalar remainder on these short (half) lists.
+          const std::uint32_t padded = (count + kLanes - 1) / kLanes * kLanes;
+          neighbors.reserve(padded);
+          for (std::uint32_t k = count; k < padded; ++k) {
+            neighbors.index[k] = i;
+            neighbors.separation[0][k] = 1.5 * Kernel::support * h;
+            for (int d = 1; d < Dim; ++d) neighbors.separation[d][k] = 0.0;
+          }
+          if (to_j0.size() < padded) {
+            for (auto* b : {&to_j0, &to_j1, &to_j2, &to_j_rho}) b->resize(2 * padded);
+          }
+          const std::uint32_t* __restrict list = neighbors.index.data();
+          const double* __restrict sep0 = neighbors.separation[0].data();
+          const double* __restrict sep1 = neighbors.separation[Dim > 1 ? 1 : 0].data();
+          const double* __restrict sep2 = neighbors.separation[Dim > 2 ? 2 : 0].data();
+          double* __restrict out0 = to_j0.data();
+          double* __restrict out1 = to_j1.data();
+          double* __restrict out2 = to_j2.data();
+          double* __restrict out_rho = to_j_rho.data();
+
+          const double vi0 = v0[i], vi1 = Dim > 1 ? v1[i] : 0.0, vi2 = Dim > 2 ? v2[i] : 0.0;
+          const double rho_i = rho[i];
+          const double inv_rho_i = inv_rho[i];
+          const double pr_i = p_over_rho2[i];
+          const double ir2_i = inv_rho_i * inv_rho_i;
+          const double k_i = hydro_k[i];
+          const double tension_i = WithArtificialPressure ? tension[i] : 0.0;
+          double sum0 = 0.0, sum1 = 0.0, sum2 = 0.0, drho = 0.0;
+          double vij2_max = 0.0;
+          double r2_min = support2;
+#pragma omp simd reduction(+ : sum0, sum1, sum2, drho) reduction(max : vij2_max) reduction(min : r2_min)
+          for (std::uint32_t k = 0; k < padded; ++k) {
+            const std::uint32_t j = list[k];
+            const double dx0 = sep0[k];
+            const double dx1 = Dim > 1 ? sep1[k] : 0.0;
+            const double dx2 = Dim > 2 ? sep2[k] : 0.0;
+            const double vij0 = vi0 - v0[j];
+            const double vij1 = Dim > 1 ? vi1 - v1[j] : 0.0;
+            const double vij2 = Dim > 2 ? vi2 - v2[j] : 0.0;
+            const double r2 = dx0 * dx0 + dx1 * dx1 + dx2 * dx2;
+            const double v_dot_r = vij0 * dx0 + vij1 * dx1 + vij2 * dx2;
+            const double g_dot_r = g0 * dx0 + g1 * dx1 + g2 * dx2;
+            const double r = std::sqrt(r2);
+            const double inv_r = 1.0 / r;
+            const double dW = kernel.derivative_inside(r);
+            const double rho_j = rho[j];
+            const double inv_rho_j = inv_rho[j];
+            const double fluid_j = fluid_mask[j];
+
+            double along_e = pair::pressure(m, pr_i, p_over_rho2[j], dW) +
+                             pair::artificial_viscosity(alpha, c0, h, m, v_dot_r, r2, 0.5 * (rho_i + rho_j), dW);
+            if constexpr (WithArtificialPressure) {
+              const double f = kernel.value_inside(r) * inv_w_dx;
+              double f_n = 1.0;
+              for (int e = 0; e < ap_n; ++e) f_n *= f;
+              along_e += pair::artificial_pressure(m, tension_i, tension[j], f_n, dW);
+            }
+            const double along_v = pair::laminar_viscosity(mu, m, ir2_i, inv_rho_j * inv_rho_j, dW, inv_r);
+            // Both sides of the pair: the forces are opposite, the continuity terms equal, and density
+            // diffusion acts between fluid particles only.
+            const double e_factor = along_e * inv_r;
+            const double f0 = e_factor * dx0 + along_v * vij0;
+            const double f1 = e_factor * dx1 + along_v * vij1;
+            const double f2 = e_factor * dx2 + along_v * vij2;
+            const double drho_hydro = -0.5 * (k_i + hydro_k[j]) * g_dot_r;  // rho_j^H - rho_i^H
+            const double continuity = pair::continuity(m, dW, v_dot_r * inv_r);
+            const double both_fluid = fluid_i * fluid_j;
+            const double diffusion_i =
+                pair::density_diffusion(delta_h_c0, m, rho_i, rho_j, drho_hydro, dW, inv_r, inv_rho_j);
+            const double diffusion_j =
+                pair::density_diffusion(delta_h_c0, m, rho_j, rho_i, -drho_hydro, dW, inv_r, inv_rho_i);
+            sum0 += f0;
+            sum1 += f1;
+            sum2 += f2;
+            drho += continuity + both_fluid * diffusion_i;
+            out0[k] = -f0;
+            out1[k] = -f1;
+            out2[k] = -f2;
+            out_rho[k] = continuity + both_fluid * diffusion_j;
+            // Over the pairs with a fluid particle: the relative speed (time step) and the closest
+            // approach (clumping).
+            const double any_fluid = std::max(fluid_i, fluid_j);
+            vij2_max = std::max(vij2_max, any_fluid * (vij0 * vij0 + vij1 * vij1 + vij2 * vij2));
+            r2_min = std::min(r2_min, any_fluid != 0.0 ? r2 : support2);
+          }
+          // No two entries of the list are the same particle, so these updates are independent.
+#pragma omp simd
+          for (std::uint32_t k = 0; k < count; ++k) {
+            const std::uint32_t j = list[k];
+            acc0[j] += out0[k];
+            if constexpr (Dim > 1) acc1[j] += out1[k];
+            if constexpr (Dim > 2) acc2[j] += out2[k];
+            density_rate[j] += out_rho[k];
+          }
+          acc0[i] += sum0;
+          if constexpr (Dim > 1) acc1[i] += sum1;
+          if constexpr (Dim > 2) acc2[i] += sum2;
+          density_rate[i] += drho;
+          max_vij2 = std::max(max_vij2, vij2_max);
+          closest2 = std::min(closest2, r2_min);
+        }
+      }
+    }
+
+    // Gravity, and the largest fluid acceleration and density.
+#pragma omp for schedule(static) reduction(max : max_accel2, max_rho)
     for (long i = 0; i < n; ++i) {
       max_rho = std::max(max_rho, rho[i]);
-      std::array<double, Dim> xi{};
-      for (int d = 0; d < Dim; ++d) xi[d] = x[d][i];
-      const double vi0 = v0[i], vi1 = Dim > 1 ? v1[i] : 0.0, vi2 = Dim > 2 ? v2[i] : 0.0;
-      const double rho_i = rho[i];
-      double drho = 0.0;
-      if (fluid_mask[i] == 0.0) {
-        bool near_fluid = false;
-        grid.for_each_neighbor_range(cell_of[i], [&](std::uint32_t begin, std::uint32_t end) {
-          near_fluid = near_fluid || fluid_before[end] > fluid_before[begin];
-        });
-        if (!near_fluid) {
-          density_rate[i] = 0.0;
-          continue;
-        }
-      }
-      collect_neighbors<Dim>(grid, cell_of[i], xi, x, support2, min_r2, neighbors);
-      const std::uint32_t count = neighbors.count;
-      const std::uint32_t* __restrict list = neighbors.index.data();
-      const double* __restrict sep0 = neighbors.separation[0].data();
-      const double* __restrict sep1 = neighbors.separation[Dim > 1 ? 1 : 0].data();
-      const double* __restrict sep2 = neighbors.separation[Dim > 2 ? 2 : 0].data();
-
-      if (fluid_mask[i] == 0.0) {
-        // Wall particle: fixed, its density evolves by continuity with the fluid around it.
-#pragma omp simd reduction(+ : drho)
-        for (std::uint32_t k = 0; k < count; ++k) {
-          const std::uint32_t j = list[k];
-          const double dx0 = sep0[k];
-          const double dx1 = Dim > 1 ? sep1[k] : 0.0;
-          const double dx2 = Dim > 2 ? sep2[k] : 0.0;
-          const double r = std::sqrt(dx0 * dx0 + dx1 * dx1 + dx2 * dx2);
-          const double v_dot_r = (vi0 - v0[j]) * dx0 + (Dim > 1 ? (vi1 - v1[j]) * dx1 : 0.0) +
-                                 (Dim > 2 ? (vi2 - v2[j]) * dx2 : 0.0);
-          drho += pair::continuity(m, kernel.derivative_inside(r), v_dot_r / r);
-        }
-        density_rate[i] = drho;
-        continue;
-      }
-
-      const double pr_i = p_over_rho2[i];
-      const double ir2_i = inv_rho[i] * inv_rho[i];
-      const double k_i = hydro_k[i];
-      const double tension_i = WithArtificialPressure ? tension[i] : 0.0;
-      double acc0 = 0.0, acc1 = 0.0, acc2 = 0.0;
-      double vij2_max = 0.0;
-      double r2_min = support2;
-#pragma omp simd reduction(+ : acc0, acc1, acc2, drho) reduction(max : vij2_max) reduction(min : r2_min)
-      for (std::uint32_t k = 0; k < count; ++k) {
-        const std::uint32_t j = list[k];
-        const double dx0 = sep0[k];
-        const double dx1 = Dim > 1 ? sep1[k] : 0.0;
-        const double dx2 = Dim > 2 ? sep2[k] : 0.0;
-        const double vij0 = vi0 - v0[j];
-        const double vij1 = Dim > 1 ? vi1 - v1[j] : 0.0;
-        const double vij2 = Dim > 2 ? vi2 - v2[j] : 0.0;
-        const double r2 = dx0 * dx0 + dx1 * dx1 + dx2 * dx2;
-        const double v_dot_r = vij0 * dx0 + vij1 * dx1 + vij2 * dx2;
-        const double g_dot_r = g0 * dx0 + g1 * dx1 + g2 * dx2;
-        const double r = std::sqrt(r2);
-        const double inv_r = 1.0 / r;
-        const double dW = kernel.derivative_inside(r);
-
-        double along_e = pair::pressure(m, pr_i, p_over_rho2[j], dW) +
-                         pair::artificial_viscosity(alpha, c0, h, m, v_dot_r, r2, 0.5 * (rho_i + rho[j]), dW);
-        if constexpr (WithArtificialPressure) {
-          const double f = kernel.value_inside(r) * inv_w_dx;
-          double f_n = 1.0;
-          for (int e = 0; e < ap_n; ++e) f_n *= f;
-          along_e += pair::artificial_pressure(m, tension_i, tension[j], f_n, dW);
-        }
-        const double inv_rho_j = inv_rho[j];
-        const double along_v = pair::laminar_viscosity(mu, m, ir2_i, inv_rho_j * inv_rho_j, dW, inv_r);
-        const double drho_hydro = -0.5 * (k_i + hydro_k[j]) * g_dot_r;  // rho_j^H - rho_i^H
-        drho += pair::continuity(m, dW, v_dot_r * inv_r) +
-                fluid_mask[j] *
-                    pair::density_diffusion(delta_h_c0, m, rho_i, rho[j], drho_hydro, dW, inv_r, inv_rho_j);
-        const double e_factor = along_e * inv_r;
-        acc0 += e_factor * dx0 + along_v * vij0;
-        acc1 += e_factor * dx1 + along_v * vij1;
-        acc2 += e_factor * dx2 + along_v * vij2;
-        vij2_max = std::max(vij2_max, vij0 * vij0 + vij1 * vij1 + vij2 * vij2);
-        r2_min = std::min(r2_min, r2);
-      }
-      acc0 += g0;
-      acc1 += g1;
-      acc2 += g2;
-      p.acceleration[0][i] = acc0;
-      if constexpr (Dim > 1) p.acceleration[1][i] = acc1;
-      if constexpr (Dim > 2) p.acceleration[2][i] = acc2;
-      density_rate[i] = drho;
-      max_accel2 = std::max(max_accel2, acc0 * acc0 + acc1 * acc1 + acc2 * acc2);
-      max_vij2 = std::max(max_vij2, vij2_max);
-      closest2 = std::min(closest2, r2_min);
+      if (fluid_mask[i] == 0.0) continue;
+      acc0[i] += g0;
+      if constexpr (Dim > 1) acc1[i] += g1;
+      if constexpr (Dim > 2) acc2[i] += g2;
+      const double a2 = acc0[i] * acc0[i] + (Dim > 1 ? acc1[i] * acc1[i] : 0.0) + (Dim > 2 ? acc2[i] * acc2[i] : 0.0);
+      max_accel2 = std::max(max_accel2, a2);
     }
   }
   return {std::sqrt(max_accel2), std::sqrt(max_vij2), max_rho, std::sqrt(closest2)};
