@@ -52,7 +52,7 @@ void Simulation::init(const Case& c) {
 }
 
 RateSummary Simulation::evaluate(bool shepard_due, bool mid_step) {
-  grid_.bin(particles_.position);
+  grid_.bin(particles_.position, threads_);
   particles_.permute(grid_.order(), scratch_, mid_step, threads_);
   const bool repair_due = std::any_of(particles_.needs_density_repair.begin(), particles_.needs_density_repair.end(),
                                       [](std::uint8_t f) { return f != 0; });

@@ -14,6 +14,8 @@
 #include <utility>
 #include <vector>
 
+#include "sluice/core/parallel.hpp"
+
 namespace sluice {
 
 template <int Dim>
@@ -47,23 +49,25 @@ class CellGrid {
 
   // Computes cell indices and the counting-sort order. After the caller permutes the particles
   // with `order()`, call nothing else: cell_start() and cell_of() already describe the sorted set.
-  void bin(const std::array<std::vector<double>, Dim>& position) {
-    const std::size_t n = position[0].size();
-    cell_of_.resize(n);
-    std::fill(cell_start_.begin(), cell_start_.end(), 0u);
-    for (std::size_t i = 0; i < n; ++i) {
+  // The cells are computed on `threads` threads (for many particles); the counting sort is serial.
+  void bin(const std::array<std::vector<double>, Dim>& position, int threads = 1) {
+    const long n = static_cast<long>(position[0].size());
+    cell_of_.resize(static_cast<std::size_t>(n));
+#pragma omp parallel for num_threads(threads) schedule(static) if (n >= light_loop_parallel_threshold)
+    for (long i = 0; i < n; ++i) {
       std::uint32_t c = 0;
       for (int d = Dim - 1; d >= 0; --d) c = c * static_cast<std::uint32_t>(count_[d]) + coordinate(position[d][i], d);
       cell_of_[i] = c;
-      ++cell_start_[c + 1];
     }
+    std::fill(cell_start_.begin(), cell_start_.end(), 0u);
+    for (long i = 0; i < n; ++i) ++cell_start_[cell_of_[i] + 1];
     for (std::size_t c = 1; c < cell_start_.size(); ++c) cell_start_[c] += cell_start_[c - 1];
-    order_.resize(n);
+    order_.resize(static_cast<std::size_t>(n));
     cursor_.assign(cell_start_.begin(), cell_start_.end() - 1);
-    for (std::size_t i = 0; i < n; ++i) order_[cursor_[cell_of_[i]]++] = static_cast<std::uint32_t>(i);
+    for (long i = 0; i < n; ++i) order_[cursor_[cell_of_[i]]++] = static_cast<std::uint32_t>(i);
     // Cell of each particle in sorted order.
-    sorted_cell_.resize(n);
-    for (std::size_t k = 0; k < n; ++k) sorted_cell_[k] = cell_of_[order_[k]];
+    sorted_cell_.resize(static_cast<std::size_t>(n));
+    for (long k = 0; k < n; ++k) sorted_cell_[k] = cell_of_[order_[k]];
     cell_of_.swap(sorted_cell_);
   }
 
