@@ -85,16 +85,18 @@ struct Particles {
       for (auto& f : velocity_start) apply(f);
       apply(density_start);
     }
-    permute_small(kind, order);
-    permute_small(id, order);
-    permute_small(needs_density_repair, order);
+    permute_small(kind, order, threads);
+    permute_small(id, order, threads);
+    permute_small(needs_density_repair, order, threads);
   }
 
  private:
   template <class T>
-  static void permute_small(std::vector<T>& field, const std::vector<std::uint32_t>& order) {
+  static void permute_small(std::vector<T>& field, const std::vector<std::uint32_t>& order, int threads) {
+    const long n = static_cast<long>(field.size());
     std::vector<T> out(field.size());
-    for (std::size_t k = 0; k < field.size(); ++k) out[k] = field[order[k]];
+#pragma omp parallel for num_threads(threads) schedule(static) if (n >= light_loop_parallel_threshold)
+    for (long k = 0; k < n; ++k) out[k] = field[order[k]];
     field.swap(out);
   }
 };
