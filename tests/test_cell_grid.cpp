@@ -9,9 +9,15 @@
 
 using namespace sluice;
 
-TEST(CellGrid, FindsTheSamePairsAsBruteForce) {
+// A wide box (4 x 2) and a tall one (2 x 4): long and short rows of cells.
+class CellGridBox : public ::testing::TestWithParam<bool> {};
+
+TEST_P(CellGridBox, FindsTheSamePairsAsBruteForce) {
+  const bool tall = GetParam();
+  const std::array<double, 2> lo = tall ? std::array<double, 2>{0.0, -1.0} : std::array<double, 2>{-1.0, 0.0};
+  const std::array<double, 2> hi = tall ? std::array<double, 2>{2.0, 3.0} : std::array<double, 2>{3.0, 2.0};
   std::mt19937 rng(42);
-  std::uniform_real_distribution<double> ux(-1.0, 3.0), uy(0.0, 2.0);
+  std::uniform_real_distribution<double> ux(lo[0], hi[0]), uy(lo[1], hi[1]);
   const std::size_t n = 3000;
   std::array<std::vector<double>, 2> pos;
   for (std::size_t i = 0; i < n; ++i) {
@@ -24,7 +30,9 @@ TEST(CellGrid, FindsTheSamePairsAsBruteForce) {
   pos[0].push_back(-5.05);
   pos[1].push_back(1.0);
   const double radius = 0.13;
-  CellGrid<2> grid({-1.0, 0.0}, {3.0, 2.0}, radius);
+  CellGrid<2> grid(lo, hi, radius);
+  EXPECT_EQ(grid.count(0), tall ? 16 : 31);
+  EXPECT_EQ(grid.count(1), tall ? 31 : 16);
   grid.bin(pos);
   const auto& order = grid.order();
   ASSERT_EQ(order.size(), n + 2);
@@ -50,7 +58,25 @@ TEST(CellGrid, FindsTheSamePairsAsBruteForce) {
     }
   EXPECT_GT(expected.size(), 1000u);
   EXPECT_EQ(found, expected);
+
+  // The forward ranges visit every pair in adjacent cells once, from the particle that comes first.
+  std::set<std::pair<std::uint32_t, std::uint32_t>> forward;
+  for (std::uint32_t k = 0; k < order.size(); ++k) {
+    grid.for_each_forward_range(k, grid.cell_of()[k], [&](std::uint32_t b, std::uint32_t e) {
+      for (std::uint32_t kj = b; kj < e; ++kj) {
+        const auto i = order[k], j = order[kj];
+        const double dx = pos[0][i] - pos[0][j], dy = pos[1][i] - pos[1][j];
+        if (dx * dx + dy * dy < radius * radius) {
+          EXPECT_TRUE(forward.insert({std::min(i, j), std::max(i, j)}).second) << i << " " << j;
+        }
+      }
+    });
+  }
+  EXPECT_EQ(forward.size(), expected.size() / 2);
 }
+
+INSTANTIATE_TEST_SUITE_P(WideAndTall, CellGridBox, ::testing::Values(false, true),
+                         [](const auto& info) { return info.param ? "Tall" : "Wide"; });
 
 TEST(CellGrid, RejectsNonPositiveCellSize) {
   EXPECT_THROW(CellGrid<2>({0, 0}, {1, 1}, 0.0), std::invalid_argument);
