@@ -103,6 +103,7 @@ void expect_cases_equal(const Case& a, const Case& b) {
   EXPECT_EQ(a.hydrostatic_start, b.hydrostatic_start);
   EXPECT_EQ(a.end_time, b.end_time);
   EXPECT_EQ(a.integrator, b.integrator);
+  EXPECT_EQ(a.wall_boundary, b.wall_boundary);
   EXPECT_EQ(a.cfl, b.cfl);
   EXPECT_EQ(a.fixed_dt, b.fixed_dt);
   EXPECT_EQ(a.output_interval, b.output_interval);
@@ -147,6 +148,7 @@ artificial_viscosity = 0.0
 density_diffusion = 1
 shepard_every = 0
 hydrostatic_start = false
+wall_boundary = "adami"
 [time]
 end = 1e-3
 integrator = "euler"
@@ -234,6 +236,7 @@ TEST(CaseDefaults, DefaultsMatchTheDocumentedValues) {
   EXPECT_EQ(c.density_diffusion, 0.1);
   EXPECT_EQ(c.shepard_every, 20);
   EXPECT_EQ(c.integrator, "predictor_corrector");
+  EXPECT_EQ(c.wall_boundary, "dynamic");
   EXPECT_EQ(c.output_formats, (std::vector<std::string>{"vtk", "npz"}));
   EXPECT_EQ(c.water[0].shape, "box");
 }
@@ -314,6 +317,19 @@ TEST(CaseTypes, StringChoices) {
   expect_contains(far, {"unknown value", "\"cubic_spline\", \"wendland_c2\""});
   EXPECT_EQ(far.find("did you mean"), std::string::npos) << far;
   expect_contains(parse_error("[domain]\nkernel = 3\n" + minimal_water), {"domain.kernel = 3", "wrong type"});
+}
+
+TEST(CaseTypes, WallBoundaryChoices) {
+  EXPECT_EQ(parse("[physics]\nwall_boundary = \"adami\"\n" + minimal_water).wall_boundary, "adami");
+  EXPECT_EQ(parse("[physics]\nwall_boundary = \"dynamic\"\n" + minimal_water).wall_boundary, "dynamic");
+  expect_contains(parse_error("[physics]\nwall_boundary = \"adamy\"\n" + minimal_water),
+                  {"test.toml:2", "physics.wall_boundary = \"adamy\"", "unknown value", "did you mean \"adami\"?",
+                   "expected one of \"dynamic\", \"adami\""});
+  Case c = parse(minimal_water);
+  apply_override(c, "physics.wall_boundary=adami");
+  EXPECT_EQ(c.wall_boundary, "adami");
+  expect_contains(override_error(c, "physics.wall_boundary=ghost"),
+                  {"physics.wall_boundary", "ghost", "expected one of \"dynamic\", \"adami\""});
 }
 
 TEST(CaseTypes, FreeString) {

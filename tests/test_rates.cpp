@@ -57,7 +57,7 @@ Reference brute_force(const Particles<2>& p, const Kernel& kernel, const RateSet
                                                drho_hydro, dW, 1.0 / r, 1.0 / p.density[j]);
       }
       double along_e = pair::pressure(s.mass, t.p_over_rho2[i], t.p_over_rho2[j], dW) +
-                       pair::artificial_viscosity(s.alpha, s.eos.sound_speed, s.h, s.mass, v_dot_r, r * r,
+                       pair::artificial_viscosity(fluid_j ? s.alpha : s.alpha * s.wall_alpha_factor, s.eos.sound_speed, s.h, s.mass, v_dot_r, r * r,
                                                   0.5 * (p.density[i] + p.density[j]), dW);
       if (with_ap) {
         const double f = kernel.value(r) / kernel.value(s.spacing);
@@ -100,7 +100,7 @@ Particles<2> jittered_block(double dx, std::uint32_t seed) {
 }
 
 template <class Kernel, bool WithAp>
-void compare_with_brute_force(int threads) {
+void compare_with_brute_force(int threads, double wall_alpha_factor = 1.0) {
   const double dx = 0.02;
   Particles<2> p = jittered_block(dx, 7);
   RateSettings<2> s{};
@@ -113,6 +113,7 @@ void compare_with_brute_force(int threads) {
   s.eos = TaitEos{1000.0, 20.0, 7.0};
   s.artificial_pressure = WithAp ? 0.2 : 0.0;
   s.spacing = dx;
+  s.wall_alpha_factor = wall_alpha_factor;
   const Kernel kernel(s.h);
   CellGrid<2> grid({-0.2, -0.2}, {0.8, 0.6}, 2.0 * s.h);
   std::vector<double> scratch;
@@ -149,6 +150,11 @@ TEST(Rates, CubicSplineMatchesBruteForceOnOneThread) { compare_with_brute_force<
 TEST(Rates, CubicSplineMatchesBruteForceOnTwoThreads) { compare_with_brute_force<CubicSpline<2>, false>(2); }
 TEST(Rates, WendlandMatchesBruteForce) { compare_with_brute_force<WendlandC2<2>, false>(2); }
 TEST(Rates, ArtificialPressureMatchesBruteForce) { compare_with_brute_force<CubicSpline<2>, true>(2); }
+// Adami walls: no artificial viscosity between fluid and wall particles, fluid-fluid pairs keep alpha.
+TEST(Rates, WithoutWallArtificialViscosityMatchesBruteForce) {
+  compare_with_brute_force<CubicSpline<2>, false>(1, 0.0);
+  compare_with_brute_force<CubicSpline<2>, false>(2, 0.0);
+}
 
 TEST(Rates, ForwardRangesVisitEveryPairOnce) {
   // Every pair of particles in adjacent cells, exactly once, from its first particle.

@@ -148,6 +148,9 @@ TEST(AnalysisCommands, BadInputIsAClearError) {
       {"convergence dam_break --dx 0.2,0.1,0.1", "0.1 is given twice"},
       {"convergence no_such_case --dx 0.2,0.1,0.05", "no_such_case: no such case file"},
       {"validate --case no_such_case", "--case no_such_case: no validation case of that name"},
+      {"validate --quick --set physics.wall_boundary=adamy", "physics.wall_boundary"},
+      {"validate --quick --set physics.wall_boundary=adamy", "expected one of \"dynamic\", \"adami\""},
+      {"validate --set domain.no_such_key=1", "domain.no_such_key"},
   };
   for (const auto& c : cases) {
     const Outcome o = run_sluice(c.args);

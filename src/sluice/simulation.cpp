@@ -36,6 +36,8 @@ void Simulation::init(const Case& c) {
   settings_.h = h;
   settings_.viscosity = c.viscosity;
   settings_.alpha = c.artificial_viscosity;
+  adami_walls_ = c.wall_boundary == "adami";
+  settings_.wall_alpha_factor = adami_walls_ ? 0.0 : 1.0;  // Adami walls: free slip
   settings_.artificial_pressure = c.artificial_pressure;
   settings_.artificial_pressure_exponent = c.artificial_pressure_exponent;
   settings_.spacing = c.dx;
@@ -64,11 +66,22 @@ RateSummary Simulation::evaluate(bool shepard_due, bool mid_step) {
                          [&](std::size_t i) { return shepard_due || repair[i] != 0; });
           std::fill(particles_.needs_density_repair.begin(), particles_.needs_density_repair.end(), 0);
         }
+        // Adami walls: the wall pressure (density) is extrapolated from the fluid just before the pair
+        // loop, and not integrated (the wall density rates are zeroed).
+        if (adami_walls_)
+          extrapolate_wall_density(particles_, grid_, kernel, settings_.eos, settings_.gravity, threads_);
         terms_.compute(particles_, settings_.eos, threads_, settings_.artificial_pressure);
         using K = std::decay_t<decltype(kernel)>;
-        if (settings_.artificial_pressure > 0.0)
-          return compute_rates<2, K, true>(particles_, grid_, kernel, settings_, terms_, threads_);
-        return compute_rates<2, K, false>(particles_, grid_, kernel, settings_, terms_, threads_);
+        const RateSummary summary =
+            settings_.artificial_pressure > 0.0
+                ? compute_rates<2, K, true>(particles_, grid_, kernel, settings_, terms_, threads_)
+                : compute_rates<2, K, false>(particles_, grid_, kernel, settings_, terms_, threads_);
+        if (adami_walls_) {
+          const long n = static_cast<long>(particles_.size());
+          for (long i = 0; i < n; ++i)
+            if (!particles_.is_fluid(static_cast<std::size_t>(i))) particles_.density_rate[i] = 0.0;
+        }
+        return summary;
       },
       kernel_);
 }

@@ -14,6 +14,7 @@
 #include "sluice/neighbors/cell_grid.hpp"
 #include "sluice/physics/kernel.hpp"
 #include "sluice/physics/rates.hpp"
+#include "sluice/physics/wall_boundary.hpp"
 
 namespace sluice {
 
@@ -113,6 +114,7 @@ class Simulation {
   Clock saved_clock_;
   bool has_saved_state_ = false;
   bool predictor_corrector_ = true;
+  bool adami_walls_ = false;  // physics.wall_boundary = "adami"
   int threads_ = 1;
   std::size_t removed_near_coincident_ = 0;
 };

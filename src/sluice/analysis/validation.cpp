@@ -105,9 +105,9 @@ Series scaled(const Series& s, double t_scale, double y_scale, double y_offset =
 std::string settings_of(const Case& c) {
   return fmt::format(
       "c0 = {:g} m/s, gamma = {:g}, mu = {:g} Pa s, artificial viscosity alpha = {:g}, density diffusion delta = {:g}, "
-      "Shepard filter every {} steps, {} kernel, h = {:g} dx, {} integrator, CFL {:g}",
+      "Shepard filter every {} steps, {} kernel, h = {:g} dx, {} integrator, CFL {:g}, {} walls",
       c.sound_speed, c.gamma, c.viscosity, c.artificial_viscosity, c.density_diffusion, c.shepard_every, c.kernel,
-      c.h_over_dx, c.integrator, c.cfl);
+      c.h_over_dx, c.integrator, c.cfl, c.wall_boundary);
 }
 
 std::string provenance(const Table& t) {
@@ -429,7 +429,8 @@ ValidationReport run_validation(const ValidationOptions& options, std::ostream& 
   const ValidationBounds bounds = options.quick ? quick_bounds() : full_bounds();
   ValidationReport report;
   report.quick = options.quick;
-  create_directories_or_throw(options.output_dir);
+  // Every case is prepared (and the --set overrides checked) before anything runs or is written.
+  std::vector<Case> cases;
   for (const std::string& name : names) {
     auto loaded = load_builtin_case(name);
     if (!loaded) throw AnalysisError(fmt::format("the built-in case '{}' is missing from this build", name));
@@ -438,6 +439,13 @@ ValidationReport run_validation(const ValidationOptions& options, std::ostream& 
       const double length = unit_length(name, c);
       apply_overrides(c, {fmt::format("domain.dx={:.17g}", length / quick_resolution(name))});
     }
+    apply_overrides(c, options.sets);
+    cases.push_back(std::move(c));
+  }
+  create_directories_or_throw(options.output_dir);
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const std::string& name = names[k];
+    const Case& c = cases[k];
     RunOptions run;
     run.output_dir = options.output_dir / "runs" / name;
     run.threads = options.threads;

@@ -89,6 +89,7 @@ struct ValidationOptions {
   int threads = 1;
   RunOptions::Progress progress = RunOptions::Progress::none;
   std::vector<std::string> cases;          // empty: all
+  std::vector<std::string> sets;           // key=value overrides applied to every case (after --quick's dx)
   std::string command_line;                // recorded in the report
 };
 

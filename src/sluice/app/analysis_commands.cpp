@@ -124,7 +124,7 @@ int convergence(const ConvergenceArgs& a) {
 struct ValidateArgs {
   bool quick = false, quiet = false;
   std::string output;
-  std::vector<std::string> cases;
+  std::vector<std::string> cases, sets;
   int threads = 0;
 };
 
@@ -132,6 +132,7 @@ int validate(const ValidateArgs& a) {
   analysis::ValidationOptions o;
   o.quick = a.quick;
   o.cases = a.cases;
+  o.sets = a.sets;
   for (const auto& name : o.cases)
     if (std::find(analysis::validation_case_names().begin(), analysis::validation_case_names().end(), name) ==
         analysis::validation_case_names().end())
@@ -142,6 +143,7 @@ int validate(const ValidateArgs& a) {
   o.progress = a.quiet ? RunOptions::Progress::none : RunOptions::Progress::lines;
   o.command_line = std::string("sluice validate") + (a.quick ? " --quick" : "");
   for (const auto& name : a.cases) o.command_line += " --case " + name;
+  for (const auto& set : a.sets) o.command_line += " --set " + set;
   const analysis::ValidationReport report = analysis::run_validation(o, std::cerr);
   std::cout << analysis::validation_table(report);
   std::cout << fmt::format("wrote {}, validation.csv and checks.csv\n", (o.output_dir / "report.html").string());
@@ -201,6 +203,10 @@ Command add_validate_command(CLI::App& app) {
   cmd->add_flag("--quick", args->quick, "Coarse resolution, as run by the test suite (about a minute)");
   cmd->add_option("-o,--output", args->output, "Output directory (default: out/validation or out/validation_quick)");
   cmd->add_option("--case", args->cases, "Run only this validation case (repeatable): martin_moyce, koshizuka_oka, buchner");
+  cmd->add_option("--set", args->sets,
+                  "Override a case key in every validation case, e.g. --set physics.wall_boundary=adami (repeatable; "
+                  "applied after --quick's resolution)")
+      ->allow_extra_args(false);
   cmd->add_option("--threads", args->threads, "Threads per run (default: all cores)")->check(CLI::Range(1, 1024));
   cmd->add_flag("-q,--quiet", args->quiet, "No progress lines");
   return {cmd, [args] { return validate(*args); }};

@@ -57,6 +57,7 @@ struct Case {
   int shepard_every = 0;              // steps between Shepard density filters (0 = off)
   bool hydrostatic_start = true;
   double initial_pressure = 0.0;      // added to the water's initial pressure
+  std::string wall_boundary;          // "dynamic" | "adami"
 
   // [time]
   double end_time = 0.0;

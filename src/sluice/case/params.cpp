@@ -96,6 +96,13 @@ const std::vector<Param<Case>>& case_params() {
               "(see the tension case)."),
       declare("physics.hydrostatic_start", &Case::hydrostatic_start, "", true, unbounded_lower, unbounded_upper,
               "Start water (and the walls under it) at hydrostatic density, so water at rest stays at rest."),
+      declare("physics.wall_boundary", &Case::wall_boundary, "", std::string("dynamic"), unbounded_lower,
+              unbounded_upper,
+              "Wall treatment: dynamic (wall particles' density evolves by the continuity equation like the fluid's) "
+              "or adami (Adami, Hu & Adams 2012: wall pressure extrapolated from the fluid before each force "
+              "evaluation, hydrostatic term included, negative values clamped to 0; free slip: no artificial "
+              "viscosity between fluid and wall).",
+              {"dynamic", "adami"}),
       declare("time.end", &Case::end_time, "s", 30.0, 0.0, inf, "Simulated end time."),
       declare("time.integrator", &Case::integrator, "", std::string("predictor_corrector"), unbounded_lower,
               unbounded_upper,

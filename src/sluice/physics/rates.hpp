@@ -31,6 +31,9 @@ struct RateSettings {
   double artificial_pressure = 0.0;  // Monaghan (2000) epsilon; 0 = off
   int artificial_pressure_exponent = 4;
   double spacing = 0.0;              // dx, for W(dx) in the artificial pressure
+  // Artificial viscosity between a fluid and a wall particle, as a fraction of alpha: 1 with dynamic
+  // walls, 0 with Adami walls (free slip). Fluid-fluid pairs always use alpha.
+  double wall_alpha_factor = 1.0;
 };
 
 // Per-particle terms computed once per evaluation instead of once per pair.
@@ -176,6 +179,8 @@ RateSummary compute_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const Ke
   const double c0 = s.eos.sound_speed;
   const double h = s.h;
   const double alpha = s.alpha;
+  const double wall_alpha = s.alpha * s.wall_alpha_factor;
+  const double alpha_gap = alpha - wall_alpha;  // 0 with wall_alpha_factor = 1: alpha_ij is alpha exactly
   const double mu = s.viscosity;
   const double delta_h_c0 = s.delta * s.h * c0;
   const auto& cell_of = grid.cell_of();
@@ -294,9 +299,11 @@ RateSummary compute_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const Ke
             const double rho_j = rho[j];
             const double inv_rho_j = inv_rho[j];
             const double fluid_j = fluid_mask[j];
+            const double both_fluid = fluid_i * fluid_j;
+            const double alpha_ij = wall_alpha + both_fluid * alpha_gap;
 
             double along_e = pair::pressure(m, pr_i, p_over_rho2[j], dW) +
-                             pair::artificial_viscosity(alpha, c0, h, m, v_dot_r, r2, 0.5 * (rho_i + rho_j), dW);
+                             pair::artificial_viscosity(alpha_ij, c0, h, m, v_dot_r, r2, 0.5 * (rho_i + rho_j), dW);
             if constexpr (WithArtificialPressure) {
               const double f = kernel.value_inside(r) * inv_w_dx;
               double f_n = 1.0;
@@ -312,7 +319,6 @@ RateSummary compute_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const Ke
             const double f2 = e_factor * dx2 + along_v * vij2;
             const double drho_hydro = -0.5 * (k_i + hydro_k[j]) * g_dot_r;  // rho_j^H - rho_i^H
             const double continuity = pair::continuity(m, dW, v_dot_r * inv_r);
-            const double both_fluid = fluid_i * fluid_j;
             const double diffusion_i =
                 pair::density_diffusion(delta_h_c0, m, rho_i, rho_j, drho_hydro, dW, inv_r, inv_rho_j);
             const double diffusion_j =

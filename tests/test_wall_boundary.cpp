@@ -1,0 +1,137 @@
+// Adami, Hu & Adams (2012) wall pressure extrapolation (physics/wall_boundary.hpp): a wall under still
+// water with hydrostatic pressure gets the hydrostatic pressure at its own position; negative values are
+// clamped; a wall particle with no fluid around it is at p = 0, rho = rho0; the EOS inversion round-trips.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "sluice/core/particles.hpp"
+#include "sluice/neighbors/cell_grid.hpp"
+#include "sluice/physics/eos.hpp"
+#include "sluice/physics/kernel.hpp"
+#include "sluice/physics/wall_boundary.hpp"
+
+using namespace sluice;
+
+namespace {
+
+constexpr double rho0 = 1000.0, g = 9.81, dx = 0.02, width = 1.0, depth = 0.5;
+const TaitEos eos{rho0, 30.0, 7.0};
+const CubicSpline<2> kernel(1.3 * dx);
+
+struct Scene {
+  Particles<2> p;
+  CellGrid<2> grid;
+};
+
+// A floor at y = 0 with `layers` rows of wall particles below it (centres at -dx/2, -3dx/2, ...), and
+// water 0 <= y <= depth on the lattice (i + 1/2) dx with density rho_of(y). `far_wall` adds one wall
+// particle far from all fluid, at density 1050.
+template <class RhoOf>
+Scene make_scene(RhoOf rho_of, int layers, bool far_wall, double wall_density = rho0) {
+  Scene s;
+  const int nx = static_cast<int>(std::lround(width / dx));
+  for (int i = 0; i < nx; ++i)
+    for (int l = 0; l < layers; ++l) s.p.add({(i + 0.5) * dx, -(l + 0.5) * dx}, Kind::wall, wall_density);
+  const int ny = static_cast<int>(std::lround(depth / dx));
+  for (int i = 0; i < nx; ++i)
+    for (int j = 0; j < ny; ++j) {
+      const double y = (j + 0.5) * dx;
+      s.p.add({(i + 0.5) * dx, y}, Kind::fluid, rho_of(y));
+    }
+  if (far_wall) s.p.add({0.5 * width, depth + 0.5}, Kind::wall, 1050.0);
+  s.p.resize(s.p.size());
+  for (std::size_t i = 0; i < s.p.size(); ++i) s.p.id[i] = static_cast<std::uint32_t>(i);
+  s.grid = CellGrid<2>({-0.2, -0.2}, {width + 0.2, depth + 1.0}, 2.0 * kernel.h);
+  s.grid.bin(s.p.position);
+  std::vector<double> scratch;
+  s.p.permute(s.grid.order(), scratch, false, 1);
+  return s;
+}
+
+double hydrostatic_density(double y) { return eos.density(rho0 * g * (depth - y)); }
+
+}  // namespace
+
+TEST(WallBoundary, WallUnderStillWaterGetsTheHydrostaticPressureAtItsPosition) {
+  Scene s = make_scene(hydrostatic_density, 3, false);
+  extrapolate_wall_density(s.p, s.grid, kernel, eos, {0.0, -g}, 1);
+  int checked = 0;
+  for (std::size_t i = 0; i < s.p.size(); ++i) {
+    const double x = s.p.position[0][i], y = s.p.position[1][i];
+    // Wall particles under the middle of the water (the kernel support is full of fluid above them),
+    // in the two layers the fluid reaches (a support of 2.6 dx reaches the third layer's top only).
+    if (s.p.is_fluid(i) || x < 0.2 || x > 0.8 || y < -2.0 * dx) continue;
+    const double expected = rho0 * g * (depth - y);
+    const double p = eos.pressure(s.p.density[i]);
+    EXPECT_NEAR(p, expected, 0.002 * expected) << "wall particle at (" << x << ", " << y << ")";
+    ++checked;
+  }
+  EXPECT_EQ(checked, 2 * 30);
+}
+
+TEST(WallBoundary, WithoutTheGravityTermTheWallWouldReadTheFluidAverageInstead) {
+  // The same scene without gravity in the extrapolation: the wall reads the kernel average of the fluid
+  // pressure, which is lower than the hydrostatic pressure at the wall by about rho0 g (mean distance).
+  Scene s = make_scene(hydrostatic_density, 1, false);
+  extrapolate_wall_density(s.p, s.grid, kernel, eos, {0.0, 0.0}, 1);
+  for (std::size_t i = 0; i < s.p.size(); ++i) {
+    if (s.p.is_fluid(i) || s.p.position[0][i] < 0.2 || s.p.position[0][i] > 0.8) continue;
+    const double expected = rho0 * g * (depth + 0.5 * dx);
+    EXPECT_LT(eos.pressure(s.p.density[i]), expected - rho0 * g * 0.5 * dx);
+  }
+}
+
+TEST(WallBoundary, NegativeExtrapolatedPressureIsClampedToZero) {
+  // Water under tension (rho < rho0), no gravity: the extrapolation is negative, the wall gets p = 0.
+  Scene s = make_scene([](double) { return 0.99 * rho0; }, 2, false, 1020.0);
+  int checked = 0;
+  for (std::size_t i = 0; i < s.p.size(); ++i) {
+    if (s.p.is_fluid(i)) continue;
+    bool found = false;
+    const double raw = extrapolated_wall_pressure(s.p, s.grid, kernel, eos, {0.0, 0.0}, i, found);
+    ASSERT_TRUE(found);
+    EXPECT_NEAR(raw, eos.pressure(0.99 * rho0), 1e-9 * std::abs(raw));
+    EXPECT_LT(raw, 0.0);
+    ++checked;
+  }
+  EXPECT_GT(checked, 0);
+  extrapolate_wall_density(s.p, s.grid, kernel, eos, {0.0, 0.0}, 1);
+  for (std::size_t i = 0; i < s.p.size(); ++i) {
+    if (s.p.is_fluid(i)) continue;
+    EXPECT_EQ(s.p.density[i], rho0);
+  }
+}
+
+TEST(WallBoundary, WallParticleWithoutFluidNeighboursIsAtRestDensity) {
+  Scene s = make_scene(hydrostatic_density, 2, true);
+  std::size_t far = s.p.size();
+  for (std::size_t i = 0; i < s.p.size(); ++i)
+    if (!s.p.is_fluid(i) && s.p.position[1][i] > depth) far = i;
+  ASSERT_LT(far, s.p.size());
+  ASSERT_EQ(s.p.density[far], 1050.0);
+  bool found = true;
+  EXPECT_EQ(extrapolated_wall_pressure(s.p, s.grid, kernel, eos, {0.0, -g}, far, found), 0.0);
+  EXPECT_FALSE(found);
+  extrapolate_wall_density(s.p, s.grid, kernel, eos, {0.0, -g}, 1);
+  EXPECT_EQ(s.p.density[far], rho0);
+  EXPECT_EQ(eos.pressure(s.p.density[far]), 0.0);
+}
+
+TEST(WallBoundary, ResultsDoNotDependOnTheThreadCount) {
+  Scene one = make_scene(hydrostatic_density, 3, true);
+  Scene two = make_scene(hydrostatic_density, 3, true);
+  extrapolate_wall_density(one.p, one.grid, kernel, eos, {0.0, -g}, 1);
+  extrapolate_wall_density(two.p, two.grid, kernel, eos, {0.0, -g}, 2);
+  EXPECT_EQ(one.p.density, two.p.density);
+}
+
+TEST(WallBoundary, TaitInversionRoundTrips) {
+  EXPECT_EQ(eos.density(0.0), rho0);
+  for (double p : {1.0, 100.0, 4905.0, 1e4, 1e5, 1e6}) {
+    const double rho = eos.density(p);
+    EXPECT_GT(rho, rho0);
+    EXPECT_NEAR(eos.pressure(rho), p, 1e-9 * eos.stiffness());
+  }
+  for (double rho : {990.0, 1000.0, 1003.0, 1050.0}) EXPECT_NEAR(eos.density(eos.pressure(rho)), rho, 1e-9 * rho);
+}
