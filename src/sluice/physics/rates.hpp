@@ -1,6 +1,7 @@
-// The pair loop, written once: for every particle i, gather over the neighbours j found by the cell
-// grid and sum the pair terms of physics/pair_terms.hpp. Each i is summed by one thread in a fixed
-// order, so results do not depend on the number of threads.
+// The pair loop, written once: every pair of neighbours found by the cell grid is evaluated once with
+// the pair terms of physics/pair_terms.hpp, and its two opposite contributions are added to both
+// particles. Threads take alternate bands of cells, so every particle receives its contributions in
+// one fixed order and the results do not depend on the number of threads (see compute_rates).
 #pragma once
 
 #include "sluice/core/parallel.hpp"
