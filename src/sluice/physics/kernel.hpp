@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <numbers>
 
+#include "sluice/core/simd.hpp"
+
 namespace sluice {
 
 // Cubic spline (Monaghan & Lattanzio 1985), normalised in 1, 2 or 3 dimensions.
@@ -25,25 +27,27 @@ struct CubicSpline {
   [[nodiscard]] double value(double r) const { return r < support * h ? value_inside(r) : 0.0; }
 
   // W for 0 <= r < 2h, branch-free; exactly 0 for r >= 2h (q is clamped at 2, so padding entries of
-  // a neighbour list placed outside the support contribute nothing).
-  [[nodiscard]] double value_inside(double r) const {
-    const double q = std::min(r * inv_h, support);  // beyond the support: exactly 0
-    const double t = 2.0 - q;
-    const double inner = 1.0 - 1.5 * q * q + 0.75 * q * q * q;
-    const double outer = 0.25 * t * t * t;
-    return norm * (q < 1.0 ? inner : outer);
+  // a neighbour list placed outside the support contribute nothing). T is double or simd::V8.
+  template <class T>
+  [[nodiscard]] T value_inside(T r) const {
+    const T q = simd::min(r * inv_h, T(support));  // beyond the support: exactly 0
+    const T t = 2.0 - q;
+    const T inner = 1.0 - 1.5 * q * q + 0.75 * q * q * q;
+    const T outer = 0.25 * t * t * t;
+    return norm * simd::select(q < 1.0, inner, outer);
   }
 
   // dW/dr (negative inside the support, zero outside and at r = 0).
   [[nodiscard]] double derivative(double r) const { return r < support * h ? derivative_inside(r) : 0.0; }
 
   // dW/dr for 0 <= r < 2h, without branches so that the pair loop vectorises; exactly 0 for r >= 2h.
-  [[nodiscard]] double derivative_inside(double r) const {
-    const double q = std::min(r * inv_h, support);  // beyond the support: exactly 0
-    const double t = 2.0 - q;
-    const double inner = -3.0 * q + 2.25 * q * q;
-    const double outer = -0.75 * t * t;
-    return norm * inv_h * (q < 1.0 ? inner : outer);
+  template <class T>
+  [[nodiscard]] T derivative_inside(T r) const {
+    const T q = simd::min(r * inv_h, T(support));  // beyond the support: exactly 0
+    const T t = 2.0 - q;
+    const T inner = -3.0 * q + 2.25 * q * q;
+    const T outer = -0.75 * t * t;
+    return norm * inv_h * simd::select(q < 1.0, inner, outer);
   }
 };
 
@@ -64,17 +68,19 @@ struct WendlandC2 {
 
   [[nodiscard]] double value(double r) const { return r < support * h ? value_inside(r) : 0.0; }
 
-  [[nodiscard]] double value_inside(double r) const {
-    const double q = std::min(r * inv_h, support);  // beyond the support: exactly 0
-    const double t = 1.0 - 0.5 * q;
+  template <class T>
+  [[nodiscard]] T value_inside(T r) const {
+    const T q = simd::min(r * inv_h, T(support));  // beyond the support: exactly 0
+    const T t = 1.0 - 0.5 * q;
     return norm * t * t * t * t * (2.0 * q + 1.0);
   }
 
   [[nodiscard]] double derivative(double r) const { return r < support * h ? derivative_inside(r) : 0.0; }
 
-  [[nodiscard]] double derivative_inside(double r) const {
-    const double q = std::min(r * inv_h, support);  // beyond the support: exactly 0
-    const double t = 1.0 - 0.5 * q;
+  template <class T>
+  [[nodiscard]] T derivative_inside(T r) const {
+    const T q = simd::min(r * inv_h, T(support));  // beyond the support: exactly 0
+    const T t = 1.0 - 0.5 * q;
     return -5.0 * norm * inv_h * q * t * t * t;
   }
 };
