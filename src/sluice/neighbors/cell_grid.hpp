@@ -103,13 +103,19 @@ class CellGrid {
     }
   }
 
-  // Calls f(begin, end) for the ranges of (sorted) particle indices that hold the "forward" half of
-  // the neighbours of particle i in cell c: the particles after i in its own cell and those of the
-  // adjacent cells that come later in the cell order. Over all i, every pair of particles in adjacent
-  // cells is visited exactly once, from its first particle. Cells are numbered with x fastest, so
-  // the forward cells of a row are one range with i's own cell.
-  template <class F>
-  void for_each_forward_range(std::uint32_t i, std::uint32_t c, F&& f) const {
+  // The "forward" half of the neighbours of a particle i in cell c: the particles after i in its own
+  // cell and those of the adjacent cells that come later in the cell order. Over all i, every pair of
+  // particles in adjacent cells is visited exactly once, from its first particle. Cells are numbered
+  // with x fastest, so the forward cells of i's row are one range with i's own cell, [i + 1, own_end);
+  // the other ranges (the row above in 2D; also the plane above in 3D) are the same for every
+  // particle of the cell, so a loop over the particles of a cell computes them once.
+  struct ForwardRanges {
+    std::uint32_t own_end = 0;
+    std::array<std::pair<std::uint32_t, std::uint32_t>, Dim == 3 ? 4 : Dim - 1> other{};
+    int others = 0;
+  };
+
+  [[nodiscard]] ForwardRanges forward_ranges(std::uint32_t c) const {
     std::array<int, Dim> coord{};
     std::uint32_t rest = c;
     for (int d = 0; d < Dim; ++d) {
@@ -119,23 +125,35 @@ class CellGrid {
     const int x_lo = std::max(coord[0] - 1, 0);
     const int x_hi = std::min(coord[0] + 1, count_[0] - 1);
     const std::size_t own_row = c - static_cast<std::uint32_t>(coord[0]);
-    f(i + 1, cell_start_[own_row + x_hi + 1]);
-    if constexpr (Dim == 2) {
-      if (coord[1] + 1 < count_[1]) {
-        const std::size_t row = own_row + count_[0];
-        f(cell_start_[row + x_lo], cell_start_[row + x_hi + 1]);
-      }
-    } else if constexpr (Dim == 3) {
-      if (coord[1] + 1 < count_[1]) {
-        const std::size_t row = own_row + count_[0];
-        f(cell_start_[row + x_lo], cell_start_[row + x_hi + 1]);
-      }
-      if (coord[2] + 1 < count_[2])
-        for (int y = std::max(coord[1] - 1, 0); y <= std::min(coord[1] + 1, count_[1] - 1); ++y) {
-          const std::size_t row = (static_cast<std::size_t>(coord[2] + 1) * count_[1] + y) * count_[0];
-          f(cell_start_[row + x_lo], cell_start_[row + x_hi + 1]);
-        }
+    ForwardRanges r;
+    r.own_end = cell_start_[own_row + x_hi + 1];
+    const auto add = [&](std::size_t row) { r.other[r.others++] = {cell_start_[row + x_lo], cell_start_[row + x_hi + 1]}; };
+    if constexpr (Dim >= 2) {
+      if (coord[1] + 1 < count_[1]) add(own_row + count_[0]);
     }
+    if constexpr (Dim == 3) {
+      if (coord[2] + 1 < count_[2])
+        for (int y = std::max(coord[1] - 1, 0); y <= std::min(coord[1] + 1, count_[1] - 1); ++y)
+          add((static_cast<std::size_t>(coord[2] + 1) * count_[1] + y) * count_[0]);
+    }
+    return r;
+  }
+
+  // Calls f(begin, end) for the forward ranges of particle i in cell c (see ForwardRanges).
+  template <class F>
+  static void for_each_forward_range(std::uint32_t i, const ForwardRanges& r, F&& f) {
+    f(i + 1, r.own_end);
+    for (int k = 0; k < r.others; ++k) f(r.other[k].first, r.other[k].second);
+  }
+  template <class F>
+  void for_each_forward_range(std::uint32_t i, std::uint32_t c, F&& f) const {
+    for_each_forward_range(i, forward_ranges(c), f);
+  }
+
+  // The cells of band b: [first, last) cell indices.
+  [[nodiscard]] std::pair<std::uint32_t, std::uint32_t> band_cells(std::size_t b) const {
+    const std::size_t stride = cell_count() / band_count();
+    return {static_cast<std::uint32_t>(b * stride), static_cast<std::uint32_t>((b + 1) * stride)};
   }
 
   // Bands: the layers of cells along the slowest coordinate (rows in 2D, planes in 3D). The forward

@@ -183,7 +183,7 @@ RateSummary compute_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const Ke
   const double alpha_gap = alpha - wall_alpha;  // 0 with wall_alpha_factor = 1: alpha_ij is alpha exactly
   const double mu = s.viscosity;
   const double delta_h_c0 = s.delta * s.h * c0;
-  const auto& cell_of = grid.cell_of();
+  const auto& cell_start = grid.cell_start();
   const double g0 = s.gravity[0];
   const double g1 = Dim > 1 ? s.gravity[Dim > 1 ? 1 : 0] : 0.0;
   const double g2 = Dim > 2 ? s.gravity[Dim > 2 ? 2 : 0] : 0.0;
@@ -299,135 +299,140 @@ RateSummary compute_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const Ke
     for (long parity = 0; parity < 2; ++parity) {
 #pragma omp for schedule(dynamic, 1) reduction(max : max_vij2) reduction(min : closest2)
       for (long band = parity; band < bands; band += 2) {
-        const auto [first, last] = grid.band_particles(static_cast<std::size_t>(band));
-        for (std::uint32_t i = first; i < last; ++i) {
-          const auto forward = [&](auto&& f) { grid.for_each_forward_range(i, cell_of[i], f); };
-          const double fluid_i = fluid_mask[i];
-          if (fluid_i == 0.0) {
-            bool near_fluid = false;
-            forward([&](std::uint32_t begin, std::uint32_t end) {
-              near_fluid = near_fluid || (end > begin && fluid_before[end] > fluid_before[begin]);
-            });
-            if (!near_fluid) continue;
-          }
-          std::array<double, Dim> xi{};
-          for (int d = 0; d < Dim; ++d) xi[d] = x[d][i];
-          collect_in_ranges<Dim>(forward, xi, x, support2, min_r2, neighbors);
-          const std::uint32_t count = neighbors.count;
-          if (count == 0) continue;
-#if defined(SLUICE_HAVE_AVX512)
-          if constexpr (Dim == 2) {
-            double sum0 = 0.0, sum1 = 0.0, drho = 0.0;
-            pairs_v8(i, count, sum0, sum1, drho);
-            acc0[i] += sum0;
-            acc1[i] += sum1;
-            density_rate[i] += drho;
-            continue;
-          }
-#endif
-          // Pad the list to whole SIMD vectors with entries outside the support (j = i at a distance
-          // 1.5 support), whose terms are exactly zero: the pair loop then runs only full vectors
-          // instead of a long scalar remainder on these short (half) lists.
-          const std::uint32_t padded = (count + kLanes - 1) / kLanes * kLanes;
-          neighbors.reserve(padded);
-          for (std::uint32_t k = count; k < padded; ++k) {
-            neighbors.index[k] = i;
-            neighbors.separation[0][k] = 1.5 * Kernel::support * h;
-            for (int d = 1; d < Dim; ++d) neighbors.separation[d][k] = 0.0;
-          }
-          if (to_j0.size() < padded) {
-            for (auto* b : {&to_j0, &to_j1, &to_j2, &to_j_rho}) b->resize(2 * padded);
-          }
-          const std::uint32_t* __restrict list = neighbors.index.data();
-          const double* __restrict sep0 = neighbors.separation[0].data();
-          const double* __restrict sep1 = neighbors.separation[Dim > 1 ? 1 : 0].data();
-          const double* __restrict sep2 = neighbors.separation[Dim > 2 ? 2 : 0].data();
-          double* __restrict out0 = to_j0.data();
-          double* __restrict out1 = to_j1.data();
-          double* __restrict out2 = to_j2.data();
-          double* __restrict out_rho = to_j_rho.data();
-
-          const double vi0 = v0[i], vi1 = Dim > 1 ? v1[i] : 0.0, vi2 = Dim > 2 ? v2[i] : 0.0;
-          const double rho_i = rho[i];
-          const double inv_rho_i = inv_rho[i];
-          const double pr_i = p_over_rho2[i];
-          const double ir2_i = inv_rho_i * inv_rho_i;
-          const double k_i = hydro_k[i];
-          const double tension_i = WithArtificialPressure ? tension[i] : 0.0;
-          double sum0 = 0.0, sum1 = 0.0, sum2 = 0.0, drho = 0.0;
-          double vij2_max = 0.0;
-          double r2_min = support2;
-#pragma omp simd reduction(+ : sum0, sum1, sum2, drho) reduction(max : vij2_max) reduction(min : r2_min)
-          for (std::uint32_t k = 0; k < padded; ++k) {
-            const std::uint32_t j = list[k];
-            const double dx0 = sep0[k];
-            const double dx1 = Dim > 1 ? sep1[k] : 0.0;
-            const double dx2 = Dim > 2 ? sep2[k] : 0.0;
-            const double vij0 = vi0 - v0[j];
-            const double vij1 = Dim > 1 ? vi1 - v1[j] : 0.0;
-            const double vij2 = Dim > 2 ? vi2 - v2[j] : 0.0;
-            const double r2 = dx0 * dx0 + dx1 * dx1 + dx2 * dx2;
-            const double v_dot_r = vij0 * dx0 + vij1 * dx1 + vij2 * dx2;
-            const double g_dot_r = g0 * dx0 + g1 * dx1 + g2 * dx2;
-            const double r = std::sqrt(r2);
-            const double inv_r = 1.0 / r;
-            const double dW = kernel.derivative_inside(r);
-            const double rho_j = rho[j];
-            const double inv_rho_j = inv_rho[j];
-            const double fluid_j = fluid_mask[j];
-            const double both_fluid = fluid_i * fluid_j;
-            const double alpha_ij = wall_alpha + both_fluid * alpha_gap;
-
-            double along_e = pair::pressure(m, pr_i, p_over_rho2[j], dW) +
-                             pair::artificial_viscosity(alpha_ij, c0, h, m, v_dot_r, r2, 0.5 * (rho_i + rho_j), dW);
-            if constexpr (WithArtificialPressure) {
-              const double f = kernel.value_inside(r) * inv_w_dx;
-              double f_n = 1.0;
-              for (int e = 0; e < ap_n; ++e) f_n *= f;
-              along_e += pair::artificial_pressure(m, tension_i, tension[j], f_n, dW);
+        const auto [first_cell, last_cell] = grid.band_cells(static_cast<std::size_t>(band));
+        for (std::uint32_t cell = first_cell; cell < last_cell; ++cell) {
+          const std::uint32_t cell_begin = cell_start[cell], cell_end = cell_start[cell + 1];
+          if (cell_begin == cell_end) continue;
+          const auto ranges = grid.forward_ranges(cell);
+          for (std::uint32_t i = cell_begin; i < cell_end; ++i) {
+            const auto forward = [&](auto&& f) { CellGrid<Dim>::for_each_forward_range(i, ranges, f); };
+            const double fluid_i = fluid_mask[i];
+            if (fluid_i == 0.0) {
+              bool near_fluid = false;
+              forward([&](std::uint32_t begin, std::uint32_t end) {
+                near_fluid = near_fluid || (end > begin && fluid_before[end] > fluid_before[begin]);
+              });
+              if (!near_fluid) continue;
             }
-            const double along_v = pair::laminar_viscosity(mu, m, ir2_i, inv_rho_j * inv_rho_j, dW, inv_r);
-            // Both sides of the pair: the forces are opposite, the continuity terms equal, and density
-            // diffusion acts between fluid particles only.
-            const double e_factor = along_e * inv_r;
-            const double f0 = e_factor * dx0 + along_v * vij0;
-            const double f1 = e_factor * dx1 + along_v * vij1;
-            const double f2 = e_factor * dx2 + along_v * vij2;
-            const double drho_hydro = -0.5 * (k_i + hydro_k[j]) * g_dot_r;  // rho_j^H - rho_i^H
-            const double continuity = pair::continuity(m, dW, v_dot_r * inv_r);
-            const double diffusion_i =
-                pair::density_diffusion(delta_h_c0, m, rho_i, rho_j, drho_hydro, dW, inv_r, inv_rho_j);
-            const double diffusion_j =
-                pair::density_diffusion(delta_h_c0, m, rho_j, rho_i, -drho_hydro, dW, inv_r, inv_rho_i);
-            sum0 += f0;
-            sum1 += f1;
-            sum2 += f2;
-            drho += continuity + both_fluid * diffusion_i;
-            out0[k] = -f0;
-            out1[k] = -f1;
-            out2[k] = -f2;
-            out_rho[k] = continuity + both_fluid * diffusion_j;
-            // Over the pairs with a fluid particle: the relative speed (time step) and the closest
-            // approach (clumping).
-            const double any_fluid = std::max(fluid_i, fluid_j);
-            vij2_max = std::max(vij2_max, any_fluid * (vij0 * vij0 + vij1 * vij1 + vij2 * vij2));
-            r2_min = std::min(r2_min, any_fluid != 0.0 ? r2 : support2);
+            std::array<double, Dim> xi{};
+            for (int d = 0; d < Dim; ++d) xi[d] = x[d][i];
+            collect_in_ranges<Dim>(forward, xi, x, support2, min_r2, neighbors);
+            const std::uint32_t count = neighbors.count;
+            if (count == 0) continue;
+#if defined(SLUICE_HAVE_AVX512)
+            if constexpr (Dim == 2) {
+              double sum0 = 0.0, sum1 = 0.0, drho = 0.0;
+              pairs_v8(i, count, sum0, sum1, drho);
+              acc0[i] += sum0;
+              acc1[i] += sum1;
+              density_rate[i] += drho;
+              continue;
+            }
+#endif
+            // Pad the list to whole SIMD vectors with entries outside the support (j = i at a distance
+            // 1.5 support), whose terms are exactly zero: the pair loop then runs only full vectors
+            // instead of a long scalar remainder on these short (half) lists.
+            const std::uint32_t padded = (count + kLanes - 1) / kLanes * kLanes;
+            neighbors.reserve(padded);
+            for (std::uint32_t k = count; k < padded; ++k) {
+              neighbors.index[k] = i;
+              neighbors.separation[0][k] = 1.5 * Kernel::support * h;
+              for (int d = 1; d < Dim; ++d) neighbors.separation[d][k] = 0.0;
+            }
+            if (to_j0.size() < padded) {
+              for (auto* b : {&to_j0, &to_j1, &to_j2, &to_j_rho}) b->resize(2 * padded);
+            }
+            const std::uint32_t* __restrict list = neighbors.index.data();
+            const double* __restrict sep0 = neighbors.separation[0].data();
+            const double* __restrict sep1 = neighbors.separation[Dim > 1 ? 1 : 0].data();
+            const double* __restrict sep2 = neighbors.separation[Dim > 2 ? 2 : 0].data();
+            double* __restrict out0 = to_j0.data();
+            double* __restrict out1 = to_j1.data();
+            double* __restrict out2 = to_j2.data();
+            double* __restrict out_rho = to_j_rho.data();
+
+            const double vi0 = v0[i], vi1 = Dim > 1 ? v1[i] : 0.0, vi2 = Dim > 2 ? v2[i] : 0.0;
+            const double rho_i = rho[i];
+            const double inv_rho_i = inv_rho[i];
+            const double pr_i = p_over_rho2[i];
+            const double ir2_i = inv_rho_i * inv_rho_i;
+            const double k_i = hydro_k[i];
+            const double tension_i = WithArtificialPressure ? tension[i] : 0.0;
+            double sum0 = 0.0, sum1 = 0.0, sum2 = 0.0, drho = 0.0;
+            double vij2_max = 0.0;
+            double r2_min = support2;
+  #pragma omp simd reduction(+ : sum0, sum1, sum2, drho) reduction(max : vij2_max) reduction(min : r2_min)
+            for (std::uint32_t k = 0; k < padded; ++k) {
+              const std::uint32_t j = list[k];
+              const double dx0 = sep0[k];
+              const double dx1 = Dim > 1 ? sep1[k] : 0.0;
+              const double dx2 = Dim > 2 ? sep2[k] : 0.0;
+              const double vij0 = vi0 - v0[j];
+              const double vij1 = Dim > 1 ? vi1 - v1[j] : 0.0;
+              const double vij2 = Dim > 2 ? vi2 - v2[j] : 0.0;
+              const double r2 = dx0 * dx0 + dx1 * dx1 + dx2 * dx2;
+              const double v_dot_r = vij0 * dx0 + vij1 * dx1 + vij2 * dx2;
+              const double g_dot_r = g0 * dx0 + g1 * dx1 + g2 * dx2;
+              const double r = std::sqrt(r2);
+              const double inv_r = 1.0 / r;
+              const double dW = kernel.derivative_inside(r);
+              const double rho_j = rho[j];
+              const double inv_rho_j = inv_rho[j];
+              const double fluid_j = fluid_mask[j];
+              const double both_fluid = fluid_i * fluid_j;
+              const double alpha_ij = wall_alpha + both_fluid * alpha_gap;
+
+              double along_e = pair::pressure(m, pr_i, p_over_rho2[j], dW) +
+                               pair::artificial_viscosity(alpha_ij, c0, h, m, v_dot_r, r2, 0.5 * (rho_i + rho_j), dW);
+              if constexpr (WithArtificialPressure) {
+                const double f = kernel.value_inside(r) * inv_w_dx;
+                double f_n = 1.0;
+                for (int e = 0; e < ap_n; ++e) f_n *= f;
+                along_e += pair::artificial_pressure(m, tension_i, tension[j], f_n, dW);
+              }
+              const double along_v = pair::laminar_viscosity(mu, m, ir2_i, inv_rho_j * inv_rho_j, dW, inv_r);
+              // Both sides of the pair: the forces are opposite, the continuity terms equal, and density
+              // diffusion acts between fluid particles only.
+              const double e_factor = along_e * inv_r;
+              const double f0 = e_factor * dx0 + along_v * vij0;
+              const double f1 = e_factor * dx1 + along_v * vij1;
+              const double f2 = e_factor * dx2 + along_v * vij2;
+              const double drho_hydro = -0.5 * (k_i + hydro_k[j]) * g_dot_r;  // rho_j^H - rho_i^H
+              const double continuity = pair::continuity(m, dW, v_dot_r * inv_r);
+              const double diffusion_i =
+                  pair::density_diffusion(delta_h_c0, m, rho_i, rho_j, drho_hydro, dW, inv_r, inv_rho_j);
+              const double diffusion_j =
+                  pair::density_diffusion(delta_h_c0, m, rho_j, rho_i, -drho_hydro, dW, inv_r, inv_rho_i);
+              sum0 += f0;
+              sum1 += f1;
+              sum2 += f2;
+              drho += continuity + both_fluid * diffusion_i;
+              out0[k] = -f0;
+              out1[k] = -f1;
+              out2[k] = -f2;
+              out_rho[k] = continuity + both_fluid * diffusion_j;
+              // Over the pairs with a fluid particle: the relative speed (time step) and the closest
+              // approach (clumping).
+              const double any_fluid = std::max(fluid_i, fluid_j);
+              vij2_max = std::max(vij2_max, any_fluid * (vij0 * vij0 + vij1 * vij1 + vij2 * vij2));
+              r2_min = std::min(r2_min, any_fluid != 0.0 ? r2 : support2);
+            }
+            // No two entries of the list are the same particle, so these updates are independent.
+  #pragma omp simd
+            for (std::uint32_t k = 0; k < count; ++k) {
+              const std::uint32_t j = list[k];
+              acc0[j] += out0[k];
+              if constexpr (Dim > 1) acc1[j] += out1[k];
+              if constexpr (Dim > 2) acc2[j] += out2[k];
+              density_rate[j] += out_rho[k];
+            }
+            acc0[i] += sum0;
+            if constexpr (Dim > 1) acc1[i] += sum1;
+            if constexpr (Dim > 2) acc2[i] += sum2;
+            density_rate[i] += drho;
+            max_vij2 = std::max(max_vij2, vij2_max);
+            closest2 = std::min(closest2, r2_min);
           }
-          // No two entries of the list are the same particle, so these updates are independent.
-#pragma omp simd
-          for (std::uint32_t k = 0; k < count; ++k) {
-            const std::uint32_t j = list[k];
-            acc0[j] += out0[k];
-            if constexpr (Dim > 1) acc1[j] += out1[k];
-            if constexpr (Dim > 2) acc2[j] += out2[k];
-            density_rate[j] += out_rho[k];
-          }
-          acc0[i] += sum0;
-          if constexpr (Dim > 1) acc1[i] += sum1;
-          if constexpr (Dim > 2) acc2[i] += sum2;
-          density_rate[i] += drho;
-          max_vij2 = std::max(max_vij2, vij2_max);
-          closest2 = std::min(closest2, r2_min);
         }
 #if defined(SLUICE_HAVE_AVX512)
         max_vij2 = std::max(max_vij2, simd::reduce_max(vij2_max_v));
