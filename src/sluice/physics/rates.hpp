@@ -361,7 +361,7 @@ RateSummary compute_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const Ke
             double sum0 = 0.0, sum1 = 0.0, sum2 = 0.0, drho = 0.0;
             double vij2_max = 0.0;
             double r2_min = support2;
-  #pragma omp simd reduction(+ : sum0, sum1, sum2, drho) reduction(max : vij2_max) reduction(min : r2_min)
+#pragma omp simd reduction(+ : sum0, sum1, sum2, drho) reduction(max : vij2_max) reduction(min : r2_min)
             for (std::uint32_t k = 0; k < padded; ++k) {
               const std::uint32_t j = list[k];
               const double dx0 = sep0[k];
@@ -418,7 +418,7 @@ RateSummary compute_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const Ke
               r2_min = std::min(r2_min, any_fluid != 0.0 ? r2 : support2);
             }
             // No two entries of the list are the same particle, so these updates are independent.
-  #pragma omp simd
+#pragma omp simd
             for (std::uint32_t k = 0; k < count; ++k) {
               const std::uint32_t j = list[k];
               acc0[j] += out0[k];
