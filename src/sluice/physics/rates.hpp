@@ -152,6 +152,88 @@ void collect_neighbors(const CellGrid<Dim>& grid, std::uint32_t cell, const std:
   collect_in_ranges<Dim>([&](auto&& f) { grid.for_each_neighbor_range(cell, f); }, xi, x, support2, min_r2, list);
 }
 
+#if defined(SLUICE_HAVE_AVX512)
+// The pair terms of a particle i and its `count` listed neighbours, eight pairs at a time (2D), with
+// the same pair:: templates as the portable loop of compute_rates. The last vector is masked: its
+// missing lanes get a separation outside the support and zero neighbour data, so their terms are
+// exactly zero, and they are neither scattered nor counted in the maxima. The contributions to j are
+// added as they are computed (gather, add, scatter): the listed j are distinct, and none is i.
+//
+// Everything the loop reads is a member, and `run` works on a local copy of *this: the compiler
+// cannot tell that the scatters leave the pointers and constants alone when they are reached through
+// a reference, and reloaded them from memory on every vector (37 loads in 209 instructions).
+template <class Kernel>
+struct PairLoopV8 {
+  Kernel kernel;
+  const double *v0, *v1, *rho, *inv_rho, *p_over_rho2, *hydro_k, *fluid_mask, *tension;
+  double *acc0, *acc1, *density_rate;
+  double m, c0, h, mu, delta_h_c0, wall_alpha, alpha_gap, g0, g1, inv_w_dx;
+  double outside;  // a separation outside the support, for the masked lanes
+  int ap_n;        // artificial pressure exponent
+
+  template <bool WithArtificialPressure>
+  void run(std::uint32_t i, const std::uint32_t* list, const double* sep0, const double* sep1, std::uint32_t count,
+           double& sum0, double& sum1, double& drho, simd::V8& vij2_max, simd::V8& r2_min) const {
+    using simd::Mask8;
+    using simd::V8;
+    const PairLoopV8 c = *this;
+    const V8 vi0 = c.v0[i], vi1 = c.v1[i];
+    const V8 rho_i = c.rho[i], inv_rho_i = c.inv_rho[i], pr_i = c.p_over_rho2[i];
+    const V8 ir2_i = c.inv_rho[i] * c.inv_rho[i], k_i = c.hydro_k[i], fluid_i = c.fluid_mask[i];
+    const V8 tension_i = WithArtificialPressure ? c.tension[i] : 0.0;
+    V8 s0 = 0.0, s1 = 0.0, sr = 0.0;
+    V8 vmax = vij2_max, rmin = r2_min;
+    for (std::uint32_t k = 0; k < count; k += 8) {
+      const Mask8 valid{count - k >= 8 ? __mmask8(0xFF) : __mmask8((1u << (count - k)) - 1u)};
+      const __m256i j = _mm256_maskz_loadu_epi32(valid.m, list + k);
+      const V8 dx0 = V8::load(valid, sep0 + k, c.outside), dx1 = V8::load(valid, sep1 + k, 0.0);
+      const V8 rho_j = V8::gather(valid, j, c.rho), inv_rho_j = V8::gather(valid, j, c.inv_rho);
+      const V8 fluid_j = V8::gather(valid, j, c.fluid_mask);
+      const V8 vij0 = vi0 - V8::gather(valid, j, c.v0), vij1 = vi1 - V8::gather(valid, j, c.v1);
+      const V8 r2 = dx0 * dx0 + dx1 * dx1;
+      const V8 v_dot_r = vij0 * dx0 + vij1 * dx1;
+      const V8 g_dot_r = c.g0 * dx0 + c.g1 * dx1;
+      const V8 inv_r = simd::inverse_sqrt(r2);
+      const V8 r = r2 * inv_r;
+      const V8 dW = c.kernel.derivative_inside(r);
+      const V8 both_fluid = fluid_i * fluid_j;
+      const V8 alpha_ij = c.wall_alpha + both_fluid * c.alpha_gap;
+      V8 along_e = pair::pressure(c.m, pr_i, V8::gather(valid, j, c.p_over_rho2), dW) +
+                   pair::artificial_viscosity(alpha_ij, c.c0, c.h, c.m, v_dot_r, r2, 0.5 * (rho_i + rho_j), dW);
+      if constexpr (WithArtificialPressure) {
+        const V8 f = c.kernel.value_inside(r) * c.inv_w_dx;
+        V8 f_n = 1.0;
+        for (int e = 0; e < c.ap_n; ++e) f_n = f_n * f;
+        along_e += pair::artificial_pressure(c.m, tension_i, V8::gather(valid, j, c.tension), f_n, dW);
+      }
+      const V8 along_v = pair::laminar_viscosity(c.mu, c.m, ir2_i, inv_rho_j * inv_rho_j, dW, inv_r);
+      const V8 e_factor = along_e * inv_r;
+      const V8 f0 = e_factor * dx0 + along_v * vij0;
+      const V8 f1 = e_factor * dx1 + along_v * vij1;
+      const V8 drho_hydro = -0.5 * (k_i + V8::gather(valid, j, c.hydro_k)) * g_dot_r;
+      const V8 continuity = pair::continuity(c.m, dW, v_dot_r * inv_r);
+      const V8 diffusion_i = pair::density_diffusion(c.delta_h_c0, c.m, rho_i, rho_j, drho_hydro, dW, inv_r, inv_rho_j);
+      const V8 diffusion_j =
+          pair::density_diffusion(c.delta_h_c0, c.m, rho_j, rho_i, -drho_hydro, dW, inv_r, inv_rho_i);
+      s0 += f0;
+      s1 += f1;
+      sr += continuity + both_fluid * diffusion_i;
+      (V8::gather(valid, j, c.acc0) - f0).scatter(valid, j, c.acc0);
+      (V8::gather(valid, j, c.acc1) - f1).scatter(valid, j, c.acc1);
+      (V8::gather(valid, j, c.density_rate) + (continuity + both_fluid * diffusion_j)).scatter(valid, j, c.density_rate);
+      const __mmask8 with_fluid = valid.m & (simd::max(fluid_i, fluid_j) != 0.0).m;
+      vmax.v = _mm512_mask_max_pd(vmax.v, with_fluid, vmax.v, (vij0 * vij0 + vij1 * vij1).v);
+      rmin.v = _mm512_mask_min_pd(rmin.v, with_fluid, rmin.v, r2.v);
+    }
+    vij2_max = vmax;
+    r2_min = rmin;
+    sum0 = simd::reduce_add(s0);
+    sum1 = simd::reduce_add(s1);
+    drho = simd::reduce_add(sr);
+  }
+};
+#endif
+
 // Fills p.acceleration (fluid particles; wall entries are scratch) and p.density_rate (all particles).
 //
 // Each pair is evaluated once (Newton's third law): particle i collects its forward neighbours from
@@ -231,69 +313,10 @@ RateSummary compute_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const Ke
     std::vector<double> to_j0, to_j1, to_j2, to_j_rho;  // the contributions to the neighbours j
 
 #if defined(SLUICE_HAVE_AVX512)
-    // The pair terms of particle i and its `count` listed neighbours, eight pairs at a time (2D), with
-    // the same pair:: templates as the portable loop below. The last vector is masked: its missing
-    // lanes get a separation outside the support and zero neighbour data, so their terms are exactly
-    // zero, and they are neither scattered nor counted in the maxima. The contributions to j are
-    // added as they are computed (gather, add, scatter): the listed j are distinct, and none is i.
-    using simd::Mask8;
-    using simd::V8;
-    V8 vij2_max_v = 0.0, r2_min_v = support2;  // over this thread's pairs with a fluid particle
-    const auto pairs_v8 = [&](std::uint32_t i, std::uint32_t count, double& sum0, double& sum1, double& drho) {
-      const std::uint32_t* list = neighbors.index.data();
-      const double* sep0 = neighbors.separation[0].data();
-      const double* sep1 = neighbors.separation[Dim > 1 ? 1 : 0].data();
-      const V8 vi0 = v0[i], vi1 = v1[i];
-      const V8 rho_i = rho[i], inv_rho_i = inv_rho[i], pr_i = p_over_rho2[i];
-      const V8 ir2_i = inv_rho[i] * inv_rho[i], k_i = hydro_k[i], fluid_i = fluid_mask[i];
-      const V8 tension_i = WithArtificialPressure ? tension[i] : 0.0;
-      const double outside = 1.5 * Kernel::support * h;
-      V8 s0 = 0.0, s1 = 0.0, sr = 0.0;
-      for (std::uint32_t k = 0; k < count; k += 8) {
-        const Mask8 valid{count - k >= 8 ? __mmask8(0xFF) : __mmask8((1u << (count - k)) - 1u)};
-        const __m256i j = _mm256_maskz_loadu_epi32(valid.m, list + k);
-        const V8 dx0 = V8::load(valid, sep0 + k, outside), dx1 = V8::load(valid, sep1 + k, 0.0);
-        const V8 rho_j = V8::gather(valid, j, rho), inv_rho_j = V8::gather(valid, j, inv_rho);
-        const V8 fluid_j = V8::gather(valid, j, fluid_mask);
-        const V8 vij0 = vi0 - V8::gather(valid, j, v0), vij1 = vi1 - V8::gather(valid, j, v1);
-        const V8 r2 = dx0 * dx0 + dx1 * dx1;
-        const V8 v_dot_r = vij0 * dx0 + vij1 * dx1;
-        const V8 g_dot_r = g0 * dx0 + g1 * dx1;
-        const V8 inv_r = simd::inverse_sqrt(r2);
-        const V8 r = r2 * inv_r;
-        const V8 dW = kernel.derivative_inside(r);
-        const V8 both_fluid = fluid_i * fluid_j;
-        const V8 alpha_ij = wall_alpha + both_fluid * alpha_gap;
-        V8 along_e = pair::pressure(m, pr_i, V8::gather(valid, j, p_over_rho2), dW) +
-                     pair::artificial_viscosity(alpha_ij, c0, h, m, v_dot_r, r2, 0.5 * (rho_i + rho_j), dW);
-        if constexpr (WithArtificialPressure) {
-          const V8 f = kernel.value_inside(r) * inv_w_dx;
-          V8 f_n = 1.0;
-          for (int e = 0; e < ap_n; ++e) f_n = f_n * f;
-          along_e += pair::artificial_pressure(m, tension_i, V8::gather(valid, j, tension), f_n, dW);
-        }
-        const V8 along_v = pair::laminar_viscosity(mu, m, ir2_i, inv_rho_j * inv_rho_j, dW, inv_r);
-        const V8 e_factor = along_e * inv_r;
-        const V8 f0 = e_factor * dx0 + along_v * vij0;
-        const V8 f1 = e_factor * dx1 + along_v * vij1;
-        const V8 drho_hydro = -0.5 * (k_i + V8::gather(valid, j, hydro_k)) * g_dot_r;
-        const V8 continuity = pair::continuity(m, dW, v_dot_r * inv_r);
-        const V8 diffusion_i = pair::density_diffusion(delta_h_c0, m, rho_i, rho_j, drho_hydro, dW, inv_r, inv_rho_j);
-        const V8 diffusion_j = pair::density_diffusion(delta_h_c0, m, rho_j, rho_i, -drho_hydro, dW, inv_r, inv_rho_i);
-        s0 += f0;
-        s1 += f1;
-        sr += continuity + both_fluid * diffusion_i;
-        (V8::gather(valid, j, acc0) - f0).scatter(valid, j, acc0);
-        (V8::gather(valid, j, acc1) - f1).scatter(valid, j, acc1);
-        (V8::gather(valid, j, density_rate) + (continuity + both_fluid * diffusion_j)).scatter(valid, j, density_rate);
-        const Mask8 with_fluid{static_cast<__mmask8>(valid.m & (simd::max(fluid_i, fluid_j) != 0.0).m)};
-        vij2_max_v.v = _mm512_mask_max_pd(vij2_max_v.v, with_fluid.m, vij2_max_v.v, (vij0 * vij0 + vij1 * vij1).v);
-        r2_min_v.v = _mm512_mask_min_pd(r2_min_v.v, with_fluid.m, r2_min_v.v, r2.v);
-      }
-      sum0 = simd::reduce_add(s0);
-      sum1 = simd::reduce_add(s1);
-      drho = simd::reduce_add(sr);
-    };
+    simd::V8 vij2_max_v = 0.0, r2_min_v = support2;  // over this thread's pairs with a fluid particle
+    const PairLoopV8<Kernel> pair_loop{kernel, v0, v1, rho, inv_rho, p_over_rho2, hydro_k, fluid_mask, tension,
+                                       acc0, acc1, density_rate, m, c0, h, mu, delta_h_c0, wall_alpha, alpha_gap,
+                                       g0, g1, inv_w_dx, 1.5 * Kernel::support * h, ap_n};
 #endif
 
     for (long parity = 0; parity < 2; ++parity) {
@@ -322,7 +345,9 @@ RateSummary compute_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const Ke
 #if defined(SLUICE_HAVE_AVX512)
             if constexpr (Dim == 2) {
               double sum0 = 0.0, sum1 = 0.0, drho = 0.0;
-              pairs_v8(i, count, sum0, sum1, drho);
+              pair_loop.template run<WithArtificialPressure>(i, neighbors.index.data(), neighbors.separation[0].data(),
+                                                           neighbors.separation[1].data(), count, sum0, sum1, drho,
+                                                           vij2_max_v, r2_min_v);
               acc0[i] += sum0;
               acc1[i] += sum1;
               density_rate[i] += drho;
