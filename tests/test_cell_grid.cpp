@@ -81,3 +81,33 @@ INSTANTIATE_TEST_SUITE_P(WideAndTall, CellGridBox, ::testing::Values(false, true
 TEST(CellGrid, RejectsNonPositiveCellSize) {
   EXPECT_THROW(CellGrid<2>({0, 0}, {1, 1}, 0.0), std::invalid_argument);
 }
+
+// Above light_loop_parallel_threshold particles the counting sort runs on the threads; the order must
+// be the serial stable order (by cell, then by index) whatever the number of threads.
+TEST(CellGrid, ParallelSortIsTheSerialStableOrder) {
+  const std::size_t n = 3 * static_cast<std::size_t>(light_loop_parallel_threshold) + 17;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 4.0);
+  std::array<std::vector<double>, 2> pos;
+  for (std::size_t i = 0; i < n; ++i) {
+    // Coarse positions, so that many particles share a cell and stability matters.
+    pos[0].push_back(std::floor(u(rng) * 8.0) / 8.0 + 0.01);
+    pos[1].push_back(u(rng));
+  }
+  std::vector<std::uint32_t> expected(n);
+  CellGrid<2> serial({0.0, 0.0}, {4.0, 4.0}, 0.25);
+  serial.bin(pos, 1);
+  for (std::size_t i = 0; i < n; ++i) expected[i] = static_cast<std::uint32_t>(i);
+  std::vector<std::uint32_t> cell(n);
+  for (std::size_t i = 0; i < n; ++i)
+    cell[i] = static_cast<std::uint32_t>(serial.coordinate(pos[1][i], 1) * serial.count(0) + serial.coordinate(pos[0][i], 0));
+  std::stable_sort(expected.begin(), expected.end(), [&](std::uint32_t a, std::uint32_t b) { return cell[a] < cell[b]; });
+  EXPECT_EQ(serial.order(), expected);
+  for (int threads : {2, 3}) {
+    CellGrid<2> grid({0.0, 0.0}, {4.0, 4.0}, 0.25);
+    grid.bin(pos, threads);
+    EXPECT_EQ(grid.order(), expected) << threads << " threads";
+    EXPECT_EQ(grid.cell_start(), serial.cell_start()) << threads << " threads";
+    EXPECT_EQ(grid.cell_of(), serial.cell_of()) << threads << " threads";
+  }
+}

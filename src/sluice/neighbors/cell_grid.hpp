@@ -10,6 +10,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <omp.h>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -49,25 +50,50 @@ class CellGrid {
 
   // Computes cell indices and the counting-sort order. After the caller permutes the particles
   // with `order()`, call nothing else: cell_start() and cell_of() already describe the sorted set.
-  // The cells are computed on `threads` threads (for many particles); the counting sort is serial.
+  // With several threads (for many particles) the counting sort is parallel too: each thread counts
+  // the cells of its contiguous share of the particles, a serial pass over the cells turns the counts
+  // into each thread's starting positions, and each thread places its share. Threads' shares are in
+  // index order, so the order is the serial stable order whatever the number of threads.
   void bin(const std::array<std::vector<double>, Dim>& position, int threads = 1) {
     const long n = static_cast<long>(position[0].size());
+    const std::size_t cells = cell_count();
+    const int teams = n >= light_loop_parallel_threshold ? std::max(1, threads) : 1;
     cell_of_.resize(static_cast<std::size_t>(n));
-#pragma omp parallel for num_threads(threads) schedule(static) if (n >= light_loop_parallel_threshold)
-    for (long i = 0; i < n; ++i) {
-      std::uint32_t c = 0;
-      for (int d = Dim - 1; d >= 0; --d) c = c * static_cast<std::uint32_t>(count_[d]) + coordinate(position[d][i], d);
-      cell_of_[i] = c;
-    }
-    std::fill(cell_start_.begin(), cell_start_.end(), 0u);
-    for (long i = 0; i < n; ++i) ++cell_start_[cell_of_[i] + 1];
-    for (std::size_t c = 1; c < cell_start_.size(); ++c) cell_start_[c] += cell_start_[c - 1];
     order_.resize(static_cast<std::size_t>(n));
-    cursor_.assign(cell_start_.begin(), cell_start_.end() - 1);
-    for (long i = 0; i < n; ++i) order_[cursor_[cell_of_[i]]++] = static_cast<std::uint32_t>(i);
-    // Cell of each particle in sorted order.
     sorted_cell_.resize(static_cast<std::size_t>(n));
-    for (long k = 0; k < n; ++k) sorted_cell_[k] = cell_of_[order_[k]];
+    cursor_.assign(static_cast<std::size_t>(teams) * cells, 0u);
+#pragma omp parallel num_threads(teams)
+    {
+      const int t = omp_get_thread_num();
+      const long begin = n * t / teams, end = n * (t + 1) / teams;
+      std::uint32_t* __restrict count = cursor_.data() + static_cast<std::size_t>(t) * cells;
+      for (long i = begin; i < end; ++i) {
+        std::uint32_t c = 0;
+        for (int d = Dim - 1; d >= 0; --d) c = c * static_cast<std::uint32_t>(count_[d]) + coordinate(position[d][i], d);
+        cell_of_[i] = c;
+        ++count[c];
+      }
+#pragma omp barrier
+#pragma omp single
+      {
+        std::uint32_t running = 0;
+        for (std::size_t c = 0; c < cells; ++c) {
+          cell_start_[c] = running;
+          for (int u = 0; u < teams; ++u) {
+            std::uint32_t& slot = cursor_[static_cast<std::size_t>(u) * cells + c];
+            const std::uint32_t k = slot;
+            slot = running;
+            running += k;
+          }
+        }
+        cell_start_[cells] = running;
+      }
+      for (long i = begin; i < end; ++i) order_[count[cell_of_[i]]++] = static_cast<std::uint32_t>(i);
+#pragma omp barrier
+      // Cell of each particle in sorted order.
+#pragma omp for schedule(static)
+      for (long k = 0; k < n; ++k) sorted_cell_[k] = cell_of_[order_[k]];
+    }
     cell_of_.swap(sorted_cell_);
   }
 
