@@ -23,6 +23,7 @@ inline double max(double a, double b) { return std::max(a, b); }
 inline double select(bool c, double a, double b) { return c ? a : b; }
 inline double quotient(double a, double b) { return a / b; }
 inline double inverse_sqrt(double x) { return 1.0 / std::sqrt(x); }
+inline double sqrt(double x) { return std::sqrt(x); }
 
 #if defined(SLUICE_HAVE_AVX512)
 
@@ -68,6 +69,7 @@ inline V8 reciprocal(V8 b) {
   return y;
 }
 inline V8 quotient(V8 a, V8 b) { return a * reciprocal(b); }
+inline V8 sqrt(V8 x) { return _mm512_maskz_sqrt_pd(all8, x.v); }
 
 // 1/sqrt(x) for x > 0: vrsqrt14pd, then two Newton steps y <- y (3 - x y^2) / 2.
 inline V8 inverse_sqrt(V8 x) {

@@ -520,6 +520,30 @@ void shepard_filter(Particles<Dim>& p, const CellGrid<Dim>& grid, const Kernel& 
   for (long i = 0; i < n; ++i) {
     if (!p.is_fluid(static_cast<std::size_t>(i)) || !select(static_cast<std::size_t>(i))) continue;
     double weighted_mass = 0.0, weighted_volume = 0.0;
+#if defined(SLUICE_HAVE_AVX512)
+    if constexpr (Dim == 2) {
+      // Eight candidates at a time; those outside the support have W = 0 exactly (q is clamped at 2),
+      // and the lanes past the end of a range are placed outside it.
+      using simd::Mask8;
+      using simd::V8;
+      const double x_i = p.position[0][i];
+      const V8 xi = x_i, yi = p.position[1][i];
+      const double outside = x_i + 2.0 * Kernel::support * kernel.h;  // a position outside i's support
+      V8 mass_sum = 0.0, volume_sum = 0.0;
+      grid.for_each_neighbor_range(cell_of[i], [&](std::uint32_t begin, std::uint32_t end) {
+        for (std::uint32_t j = begin; j < end; j += 8) {
+          const Mask8 valid{end - j >= 8 ? __mmask8(0xFF) : __mmask8((1u << (end - j)) - 1u)};
+          const V8 dx = xi - V8::load(valid, p.position[0].data() + j, outside);
+          const V8 dy = yi - V8::load(valid, p.position[1].data() + j, 0.0);
+          const V8 w = kernel.value_inside(simd::sqrt(dx * dx + dy * dy));
+          mass_sum += w;
+          volume_sum += w * simd::quotient(mass, V8::load(valid, p.density.data() + j, 1.0));
+        }
+      });
+      out[i] = mass * simd::reduce_add(mass_sum) / simd::reduce_add(volume_sum);
+      continue;
+    }
+#endif
     grid.for_each_neighbor_range(cell_of[i], [&](std::uint32_t begin, std::uint32_t end) {
       for (std::uint32_t j = begin; j < end; ++j) {
         double r2 = 0.0;
