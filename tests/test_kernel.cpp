@@ -74,3 +74,21 @@ TYPED_TEST(KernelTest, LatticeSumsAreConsistent) {
   EXPECT_NEAR(grad_y, 0.0, 1e-12);
   EXPECT_NEAR(moment_xx, 1.0, 0.03);
 }
+
+// The pair terms use F = dW/dr / r; gradient_factor writes it without the division where it can.
+// It must equal derivative(r) / r inside the support (both pieces of the cubic spline), be exactly
+// zero from the support on (padding and masked lanes rely on it), and stay finite as r -> 0.
+TYPED_TEST(KernelTest, GradientFactorIsDerivativeOverR) {
+  const double h = 0.37;
+  const TypeParam kernel(h);
+  const double support = TypeParam::support * h;
+  for (int k = 1; k < 400; ++k) {
+    const double r = k * support / 400.0;
+    const double expected = kernel.derivative(r) / r;
+    EXPECT_NEAR(kernel.gradient_factor(r, 1.0 / r), expected, 1e-13 * std::abs(kernel.gradient_factor(1e-6, 1e6)))
+        << "r = " << r;
+  }
+  for (double r : {support, 1.2 * support, 3.0 * support}) EXPECT_EQ(kernel.gradient_factor(r, 1.0 / r), 0.0);
+  EXPECT_TRUE(std::isfinite(kernel.gradient_factor(1e-300, 1e300)));
+  EXPECT_LT(kernel.gradient_factor(1e-9, 1e9), 0.0);
+}

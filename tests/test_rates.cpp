@@ -42,9 +42,10 @@ Reference brute_force(const Particles<2>& p, const Kernel& kernel, const RateSet
       if (r >= support) continue;
       const bool fluid_j = p.kind[j] == Kind::fluid;
       const double vx = p.velocity[0][i] - p.velocity[0][j], vy = p.velocity[1][i] - p.velocity[1][j];
-      const double dW = kernel.derivative(r);
+      // The pair terms take F = dW/dr / r; here from the kernel's dW/dr, not its gradient_factor.
+      const double F = kernel.derivative(r) / r;
       const double v_dot_r = vx * dx + vy * dy;
-      ref.drho[i] += pair::continuity(s.mass, dW, v_dot_r / r);
+      ref.drho[i] += pair::continuity(s.mass, F, v_dot_r);
       if (fluid_i || fluid_j) {
         ref.max_vij = std::max(ref.max_vij, std::hypot(vx, vy));
         closest = std::min(closest, r);
@@ -53,20 +54,21 @@ Reference brute_force(const Particles<2>& p, const Kernel& kernel, const RateSet
       if (fluid_j) {
         const double g_dot_r = s.gravity[0] * dx + s.gravity[1] * dy;
         const double drho_hydro = -0.5 * (t.hydro_k[i] + t.hydro_k[j]) * g_dot_r;
-        ref.drho[i] += pair::density_diffusion(s.delta * s.h * s.eos.sound_speed, s.mass, p.density[i], p.density[j],
-                                               drho_hydro, dW, 1.0 / r, 1.0 / p.density[j]);
+        ref.drho[i] += pair::density_diffusion_flux(s.delta * s.h * s.eos.sound_speed, s.mass, p.density[i],
+                                                    p.density[j], drho_hydro, F) /
+                       p.density[j];
       }
-      double along_e = pair::pressure(s.mass, t.p_over_rho2[i], t.p_over_rho2[j], dW) +
+      double along_r = pair::pressure(s.mass, t.p_over_rho2[i], t.p_over_rho2[j], F) +
                        pair::artificial_viscosity(fluid_j ? s.alpha : s.alpha * s.wall_alpha_factor, s.eos.sound_speed, s.h, s.mass, v_dot_r, r * r,
-                                                  0.5 * (p.density[i] + p.density[j]), dW);
+                                                  0.5 * (p.density[i] + p.density[j]), F);
       if (with_ap) {
         const double f = kernel.value(r) / kernel.value(s.spacing);
-        along_e += pair::artificial_pressure(s.mass, t.tension[i], t.tension[j], std::pow(f, s.artificial_pressure_exponent), dW);
+        along_r += pair::artificial_pressure(s.mass, t.tension[i], t.tension[j], std::pow(f, s.artificial_pressure_exponent), F);
       }
       const double along_v = pair::laminar_viscosity(s.viscosity, s.mass, 1.0 / (p.density[i] * p.density[i]),
-                                                     1.0 / (p.density[j] * p.density[j]), dW, 1.0 / r);
-      ref.ax[i] += along_e * dx / r + along_v * vx;
-      ref.ay[i] += along_e * dy / r + along_v * vy;
+                                                     1.0 / (p.density[j] * p.density[j]), F);
+      ref.ax[i] += along_r * dx + along_v * vx;
+      ref.ay[i] += along_r * dy + along_v * vy;
     }
     if (fluid_i) {
       ref.ax[i] += s.gravity[0];

@@ -49,6 +49,17 @@ struct CubicSpline {
     const T outer = -0.75 * t * t;
     return norm * inv_h * simd::select(q < 1.0, inner, outer);
   }
+
+  // The gradient factor F = dW/dr / r for 0 < r (exactly 0 for r >= 2h), given r and 1/r: on the
+  // inner piece q/r = 1/h, so only the outer piece needs 1/r.
+  template <class T>
+  [[nodiscard]] T gradient_factor(T r, T inv_r) const {
+    const T q = simd::min(r * inv_h, T(support));
+    const T t = 2.0 - q;
+    const T inner = norm * inv_h * inv_h * (-3.0 + 2.25 * q);
+    const T outer = -0.75 * norm * inv_h * t * t * inv_r;
+    return simd::select(q < 1.0, inner, outer);
+  }
 };
 
 // Wendland C2 (Wendland 1995), in the q in [0, 2] form used by DualSPHysics; 2D and 3D only.
@@ -82,6 +93,14 @@ struct WendlandC2 {
     const T q = simd::min(r * inv_h, T(support));  // beyond the support: exactly 0
     const T t = 1.0 - 0.5 * q;
     return -5.0 * norm * inv_h * q * t * t * t;
+  }
+
+  // F = dW/dr / r (exactly 0 for r >= 2h): q/r = 1/h, so no division.
+  template <class T>
+  [[nodiscard]] T gradient_factor(T r, T /*inv_r*/) const {
+    const T q = simd::min(r * inv_h, T(support));
+    const T t = 1.0 - 0.5 * q;
+    return -5.0 * norm * inv_h * inv_h * t * t * t;
   }
 };
 

@@ -221,32 +221,29 @@ struct PairLoopV8 {
       const V8 g_dot_r = c.g0 * dx0 + c.g1 * dx1;
       const V8 inv_r = simd::inverse_sqrt(r2);
       const V8 r = r2 * inv_r;
-      const V8 dW = c.kernel.derivative_inside(r);
+      const V8 F = c.kernel.gradient_factor(r, inv_r);
       const V8 both_fluid = fluid_i * fluid_j;
       const V8 alpha_ij = c.wall_alpha + both_fluid * c.alpha_gap;
-      V8 along_e = pair::pressure(c.m, pr_i, V8::gather(valid, j, c.p_over_rho2), dW) +
-                   pair::artificial_viscosity(alpha_ij, c.c0, c.h, c.m, v_dot_r, r2, 0.5 * (rho_i + rho_j), dW);
+      V8 along_r = pair::pressure(c.m, pr_i, V8::gather(valid, j, c.p_over_rho2), F) +
+                   pair::artificial_viscosity(alpha_ij, c.c0, c.h, c.m, v_dot_r, r2, 0.5 * (rho_i + rho_j), F);
       if constexpr (WithArtificialPressure) {
         const V8 f = c.kernel.value_inside(r) * c.inv_w_dx;
         V8 f_n = 1.0;
         for (int e = 0; e < c.ap_n; ++e) f_n = f_n * f;
-        along_e += pair::artificial_pressure(c.m, tension_i, V8::gather(valid, j, c.tension), f_n, dW);
+        along_r += pair::artificial_pressure(c.m, tension_i, V8::gather(valid, j, c.tension), f_n, F);
       }
-      const V8 along_v = pair::laminar_viscosity(c.mu, c.m, ir2_i, inv_rho_j * inv_rho_j, dW, inv_r);
-      const V8 e_factor = along_e * inv_r;
-      const V8 f0 = e_factor * dx0 + along_v * vij0;
-      const V8 f1 = e_factor * dx1 + along_v * vij1;
+      const V8 along_v = pair::laminar_viscosity(c.mu, c.m, ir2_i, inv_rho_j * inv_rho_j, F);
+      const V8 f0 = along_r * dx0 + along_v * vij0;
+      const V8 f1 = along_r * dx1 + along_v * vij1;
       const V8 drho_hydro = -0.5 * (k_i + V8::gather(valid, j, c.hydro_k)) * g_dot_r;
-      const V8 continuity = pair::continuity(c.m, dW, v_dot_r * inv_r);
-      const V8 diffusion_i = pair::density_diffusion(c.delta_h_c0, c.m, rho_i, rho_j, drho_hydro, dW, inv_r, inv_rho_j);
-      const V8 diffusion_j =
-          pair::density_diffusion(c.delta_h_c0, c.m, rho_j, rho_i, -drho_hydro, dW, inv_r, inv_rho_i);
+      const V8 continuity = pair::continuity(c.m, F, v_dot_r);
+      const V8 flux = both_fluid * pair::density_diffusion_flux(c.delta_h_c0, c.m, rho_i, rho_j, drho_hydro, F);
       s0 += f0;
       s1 += f1;
-      sr += continuity + both_fluid * diffusion_i;
+      sr += continuity + flux * inv_rho_j;
       (V8::gather(valid, j, c.acc0) - f0).scatter(valid, j, c.acc0);
       (V8::gather(valid, j, c.acc1) - f1).scatter(valid, j, c.acc1);
-      (V8::gather(valid, j, c.density_rate) + (continuity + both_fluid * diffusion_j)).scatter(valid, j, c.density_rate);
+      (V8::gather(valid, j, c.density_rate) + (continuity - flux * inv_rho_i)).scatter(valid, j, c.density_rate);
       const __mmask8 with_fluid = valid.m & (simd::max(fluid_i, fluid_j) != 0.0).m;
       vmax.v = _mm512_mask_max_pd(vmax.v, with_fluid, vmax.v, (vij0 * vij0 + vij1 * vij1).v);
       rmin.v = _mm512_mask_min_pd(rmin.v, with_fluid, rmin.v, r2.v);
@@ -425,43 +422,39 @@ RateSummary compute_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const Ke
               const double v_dot_r = vij0 * dx0 + vij1 * dx1 + vij2 * dx2;
               const double g_dot_r = g0 * dx0 + g1 * dx1 + g2 * dx2;
               const double r = std::sqrt(r2);
-              const double inv_r = 1.0 / r;
-              const double dW = kernel.derivative_inside(r);
+              const double F = kernel.gradient_factor(r, 1.0 / r);
               const double rho_j = rho[j];
               const double inv_rho_j = inv_rho[j];
               const double fluid_j = fluid_mask[j];
               const double both_fluid = fluid_i * fluid_j;
               const double alpha_ij = wall_alpha + both_fluid * alpha_gap;
 
-              double along_e = pair::pressure(m, pr_i, p_over_rho2[j], dW) +
-                               pair::artificial_viscosity(alpha_ij, c0, h, m, v_dot_r, r2, 0.5 * (rho_i + rho_j), dW);
+              double along_r = pair::pressure(m, pr_i, p_over_rho2[j], F) +
+                               pair::artificial_viscosity(alpha_ij, c0, h, m, v_dot_r, r2, 0.5 * (rho_i + rho_j), F);
               if constexpr (WithArtificialPressure) {
                 const double f = kernel.value_inside(r) * inv_w_dx;
                 double f_n = 1.0;
                 for (int e = 0; e < ap_n; ++e) f_n *= f;
-                along_e += pair::artificial_pressure(m, tension_i, tension[j], f_n, dW);
+                along_r += pair::artificial_pressure(m, tension_i, tension[j], f_n, F);
               }
-              const double along_v = pair::laminar_viscosity(mu, m, ir2_i, inv_rho_j * inv_rho_j, dW, inv_r);
+              const double along_v = pair::laminar_viscosity(mu, m, ir2_i, inv_rho_j * inv_rho_j, F);
               // Both sides of the pair: the forces are opposite, the continuity terms equal, and density
               // diffusion acts between fluid particles only.
-              const double e_factor = along_e * inv_r;
-              const double f0 = e_factor * dx0 + along_v * vij0;
-              const double f1 = e_factor * dx1 + along_v * vij1;
-              const double f2 = e_factor * dx2 + along_v * vij2;
+              const double f0 = along_r * dx0 + along_v * vij0;
+              const double f1 = along_r * dx1 + along_v * vij1;
+              const double f2 = along_r * dx2 + along_v * vij2;
               const double drho_hydro = -0.5 * (k_i + hydro_k[j]) * g_dot_r;  // rho_j^H - rho_i^H
-              const double continuity = pair::continuity(m, dW, v_dot_r * inv_r);
-              const double diffusion_i =
-                  pair::density_diffusion(delta_h_c0, m, rho_i, rho_j, drho_hydro, dW, inv_r, inv_rho_j);
-              const double diffusion_j =
-                  pair::density_diffusion(delta_h_c0, m, rho_j, rho_i, -drho_hydro, dW, inv_r, inv_rho_i);
+              const double continuity = pair::continuity(m, F, v_dot_r);
+              const double flux =
+                  both_fluid * pair::density_diffusion_flux(delta_h_c0, m, rho_i, rho_j, drho_hydro, F);
               sum0 += f0;
               sum1 += f1;
               sum2 += f2;
-              drho += continuity + both_fluid * diffusion_i;
+              drho += continuity + flux * inv_rho_j;
               out0[k] = -f0;
               out1[k] = -f1;
               out2[k] = -f2;
-              out_rho[k] = continuity + both_fluid * diffusion_j;
+              out_rho[k] = continuity - flux * inv_rho_i;
               // Over the pairs with a fluid particle: the relative speed (time step) and the closest
               // approach (clumping).
               const double any_fluid = std::max(fluid_i, fluid_j);
