@@ -1,10 +1,12 @@
-// The linked-cell search finds exactly the pairs a brute-force search finds, and sorts by cell.
+// The linked-cell search finds exactly the pairs a brute-force search finds, and sorts by cell; the
+// particles follow the order.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <random>
 #include <set>
 
+#include "sluice/core/particles.hpp"
 #include "sluice/neighbors/cell_grid.hpp"
 
 using namespace sluice;
@@ -109,5 +111,55 @@ TEST(CellGrid, ParallelSortIsTheSerialStableOrder) {
     EXPECT_EQ(grid.order(), expected) << threads << " threads";
     EXPECT_EQ(grid.cell_start(), serial.cell_start()) << threads << " threads";
     EXPECT_EQ(grid.cell_of(), serial.cell_of()) << threads << " threads";
+  }
+}
+
+// Particles::permute moves every field with the particle, on one or several threads (above the
+// threshold the copies run in one parallel region), with or without the step-start state.
+TEST(Particles, PermuteMovesEveryFieldWithTheParticle) {
+  const std::size_t n = 2 * static_cast<std::size_t>(light_loop_parallel_threshold) + 5;
+  const auto make = [n] {
+    Particles<2> p;
+    for (std::size_t i = 0; i < n; ++i) p.add({0.5 * i, 1.5 * i}, i % 3 ? Kind::fluid : Kind::wall, 1000.0 + i);
+    p.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      p.velocity[0][i] = 2.0 * i;
+      p.velocity[1][i] = -2.0 * i;
+      p.position_start[0][i] = 3.0 * i;
+      p.position_start[1][i] = 4.0 * i;
+      p.velocity_start[0][i] = 5.0 * i;
+      p.velocity_start[1][i] = 6.0 * i;
+      p.density_start[i] = 7.0 * i;
+      p.needs_density_repair[i] = i % 5 == 0;
+    }
+    return p;
+  };
+  std::vector<std::uint32_t> order(n);
+  for (std::size_t k = 0; k < n; ++k) order[k] = static_cast<std::uint32_t>((k * 7919) % n);  // n is not a multiple of 7919
+  for (int threads : {1, 2}) {
+    Particles<2> p = make();
+    std::vector<double> scratch;
+    p.permute(order, scratch, true, threads);
+    for (std::size_t k = 0; k < n; ++k) {
+      const double i = order[k];
+      ASSERT_EQ(p.id[k], order[k]) << threads;
+      ASSERT_EQ(p.position[0][k], 0.5 * i);
+      ASSERT_EQ(p.position[1][k], 1.5 * i);
+      ASSERT_EQ(p.velocity[0][k], 2.0 * i);
+      ASSERT_EQ(p.velocity[1][k], -2.0 * i);
+      ASSERT_EQ(p.density[k], 1000.0 + i);
+      ASSERT_EQ(p.kind[k], order[k] % 3 ? Kind::fluid : Kind::wall);
+      ASSERT_EQ(p.position_start[0][k], 3.0 * i);
+      ASSERT_EQ(p.position_start[1][k], 4.0 * i);
+      ASSERT_EQ(p.velocity_start[0][k], 5.0 * i);
+      ASSERT_EQ(p.velocity_start[1][k], 6.0 * i);
+      ASSERT_EQ(p.density_start[k], 7.0 * i);
+      ASSERT_EQ(p.needs_density_repair[k], order[k] % 5 == 0);
+    }
+    // Without the step-start state, it stays where it was.
+    Particles<2> q = make();
+    q.permute(order, scratch, false, threads);
+    ASSERT_EQ(q.density_start[1], 7.0);
+    ASSERT_EQ(q.density[1], 1000.0 + order[1]);
   }
 }

@@ -69,36 +69,48 @@ struct Particles {
                int threads) {
     const long n = static_cast<long>(size());
     scratch.resize(static_cast<std::size_t>(n));
-    auto apply = [&](std::vector<double>& field) {
-      const double* __restrict in = field.data();
-      double* __restrict out = scratch.data();
-      const std::uint32_t* __restrict from = order.data();
-#pragma omp parallel for num_threads(threads) schedule(static) if (n >= light_loop_parallel_threshold)
-      for (long k = 0; k < n; ++k) out[k] = in[from[k]];
-      field.swap(scratch);
-    };
-    for (auto& f : position) apply(f);
-    for (auto& f : velocity) apply(f);
-    apply(density);
+    kind_scratch_.resize(static_cast<std::size_t>(n));
+    id_scratch_.resize(static_cast<std::size_t>(n));
+    repair_scratch_.resize(static_cast<std::size_t>(n));
+    std::vector<std::vector<double>*> fields;
+    for (auto& f : position) fields.push_back(&f);
+    for (auto& f : velocity) fields.push_back(&f);
+    fields.push_back(&density);
     if (with_step_start) {
-      for (auto& f : position_start) apply(f);
-      for (auto& f : velocity_start) apply(f);
-      apply(density_start);
+      for (auto& f : position_start) fields.push_back(&f);
+      for (auto& f : velocity_start) fields.push_back(&f);
+      fields.push_back(&density_start);
     }
-    permute_small(kind, order, threads);
-    permute_small(id, order, threads);
-    permute_small(needs_density_repair, order, threads);
+    const std::uint32_t* __restrict from = order.data();
+    // One parallel region for all the fields (a region per field cost more than the copies on two
+    // threads). The double fields go through `scratch` one after another; each thread copies the same
+    // static share of every field, and one thread swaps between fields.
+#pragma omp parallel num_threads(threads) if (n >= light_loop_parallel_threshold)
+    {
+#pragma omp for schedule(static) nowait
+      for (long k = 0; k < n; ++k) {
+        kind_scratch_[k] = kind[from[k]];
+        id_scratch_[k] = id[from[k]];
+        repair_scratch_[k] = needs_density_repair[from[k]];
+      }
+      for (std::vector<double>* field : fields) {
+        const double* __restrict in = field->data();
+        double* __restrict out = scratch.data();
+#pragma omp for schedule(static)
+        for (long k = 0; k < n; ++k) out[k] = in[from[k]];
+#pragma omp single
+        field->swap(scratch);
+      }
+    }
+    kind.swap(kind_scratch_);
+    id.swap(id_scratch_);
+    needs_density_repair.swap(repair_scratch_);
   }
 
  private:
-  template <class T>
-  static void permute_small(std::vector<T>& field, const std::vector<std::uint32_t>& order, int threads) {
-    const long n = static_cast<long>(field.size());
-    std::vector<T> out(field.size());
-#pragma omp parallel for num_threads(threads) schedule(static) if (n >= light_loop_parallel_threshold)
-    for (long k = 0; k < n; ++k) out[k] = field[order[k]];
-    field.swap(out);
-  }
+  std::vector<Kind> kind_scratch_;
+  std::vector<std::uint32_t> id_scratch_;
+  std::vector<std::uint8_t> repair_scratch_;
 };
 
 }  // namespace sluice
