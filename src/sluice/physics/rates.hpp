@@ -260,15 +260,17 @@ struct PairLoopV8 {
 // Fills p.acceleration (fluid particles; wall entries are scratch) and p.density_rate (all particles).
 //
 // Each pair is evaluated once (Newton's third law): particle i collects its forward neighbours from
-// the cell grid (CellGrid::for_each_forward_range), the pair terms are summed into i in a loop written
-// branch-free so that the compiler vectorises it, and the opposite contributions are added to the
-// neighbours j afterwards. Threads work on bands of cells (rows in 2D): a band's pairs reach only into
-// the next band, so all even bands run at once, then all odd ones. Every particle therefore receives
-// its contributions in one fixed order — its lower band's, then its own band's, in index order —
-// whatever the number of threads, and the results are the same bit for bit on any thread count.
-// `#pragma omp simd` allows the vectorised sums, whose order is fixed by the binary and the neighbour
-// order, never by the thread count.
-// Neighbour lists are padded to a multiple of this many entries (whole SIMD vectors).
+// the cell grid (CellGrid::forward_ranges, computed once per cell), the pair terms are summed into i,
+// and the opposite contributions are added to the neighbours j. In 2D with AVX-512 this is
+// PairLoopV8, eight pairs at a time; otherwise a portable loop written branch-free so that the
+// compiler vectorises it, whose contributions to j are added after it. Threads work on bands of cells
+// (rows in 2D): a band's pairs reach only into the next band, so all even bands run at once, then all
+// odd ones. Every particle therefore receives its contributions in one fixed order — its lower band's,
+// then its own band's, in index order — whatever the number of threads, and the results are the same
+// bit for bit on any thread count. The vectorised sums have an order fixed by the binary and the
+// neighbour order, never by the thread count.
+//
+// The portable loop pads its neighbour lists to a multiple of this many entries (whole SIMD vectors).
 inline constexpr std::uint32_t kLanes = 16;
 
 template <int Dim, class Kernel, bool WithArtificialPressure = false>
