@@ -102,7 +102,7 @@ Particles<2> jittered_block(double dx, std::uint32_t seed) {
 }
 
 template <class Kernel, bool WithAp>
-void compare_with_brute_force(int threads, double wall_alpha_factor = 1.0) {
+void compare_with_brute_force(int threads, double wall_alpha_factor = 1.0, bool portable = false) {
   const double dx = 0.02;
   Particles<2> p = jittered_block(dx, 7);
   RateSettings<2> s{};
@@ -116,6 +116,7 @@ void compare_with_brute_force(int threads, double wall_alpha_factor = 1.0) {
   s.artificial_pressure = WithAp ? 0.2 : 0.0;
   s.spacing = dx;
   s.wall_alpha_factor = wall_alpha_factor;
+  s.portable_pair_loop = portable;
   const Kernel kernel(s.h);
   CellGrid<2> grid({-0.2, -0.2}, {0.8, 0.6}, 2.0 * s.h);
   std::vector<double> scratch;
@@ -158,6 +159,15 @@ TEST(Rates, WithoutWallArtificialViscosityMatchesBruteForce) {
   compare_with_brute_force<CubicSpline<2>, false>(2, 0.0);
 }
 
+// The portable loop (the only one on machines without AVX-512; the eight-lane loop above otherwise).
+TEST(Rates, PortableLoopMatchesBruteForce) {
+  compare_with_brute_force<CubicSpline<2>, false>(1, 1.0, true);
+  compare_with_brute_force<CubicSpline<2>, false>(2, 1.0, true);
+  compare_with_brute_force<WendlandC2<2>, false>(2, 1.0, true);
+  compare_with_brute_force<CubicSpline<2>, true>(2, 1.0, true);
+  compare_with_brute_force<CubicSpline<2>, false>(2, 0.0, true);
+}
+
 TEST(Rates, ForwardRangesVisitEveryPairOnce) {
   // Every pair of particles in adjacent cells, exactly once, from its first particle.
   Particles<2> p = jittered_block(0.02, 3);
@@ -196,7 +206,7 @@ TEST(Rates, ForwardRangesVisitEveryPairOnce) {
 // within the support including i, summed directly: for the selected fluid particles only, on 1 and 2
 // threads, with both kernels.
 template <class Kernel>
-void shepard_against_definition(int threads) {
+void shepard_against_definition(int threads, bool portable = false) {
   const double dx = 0.02, h = 1.3 * dx, mass = 1000.0 * dx * dx;
   Particles<2> p = jittered_block(dx, 11);
   CellGrid<2> grid({-0.2, -0.2}, {0.8, 0.6}, 2.0 * h);
@@ -206,7 +216,7 @@ void shepard_against_definition(int threads) {
   const Kernel kernel(h);
   const std::vector<double> before = p.density;
   const auto selected = [](std::size_t i) { return i % 3 != 0; };
-  shepard_filter(p, grid, kernel, mass, scratch, threads, selected);
+  shepard_filter(p, grid, kernel, mass, scratch, threads, selected, portable);
   std::size_t changed = 0;
   for (std::size_t i = 0; i < p.size(); ++i) {
     if (!p.is_fluid(i) || !selected(i)) {
@@ -228,3 +238,7 @@ void shepard_against_definition(int threads) {
 TEST(Shepard, MatchesItsDefinitionCubicOneThread) { shepard_against_definition<CubicSpline<2>>(1); }
 TEST(Shepard, MatchesItsDefinitionCubicTwoThreads) { shepard_against_definition<CubicSpline<2>>(2); }
 TEST(Shepard, MatchesItsDefinitionWendland) { shepard_against_definition<WendlandC2<2>>(2); }
+TEST(Shepard, PortableLoopMatchesItsDefinition) {
+  shepard_against_definition<CubicSpline<2>>(2, true);
+  shepard_against_definition<WendlandC2<2>>(1, true);
+}

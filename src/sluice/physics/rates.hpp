@@ -35,6 +35,8 @@ struct RateSettings {
   // Artificial viscosity between a fluid and a wall particle, as a fraction of alpha: 1 with dynamic
   // walls, 0 with Adami walls (free slip). Fluid-fluid pairs always use alpha.
   double wall_alpha_factor = 1.0;
+  // Use the portable pair loop even where the AVX-512 one is built (for the tests, which check both).
+  bool portable_pair_loop = false;
 };
 
 // Per-particle terms computed once per evaluation instead of once per pair.
@@ -369,14 +371,17 @@ RateSummary compute_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const Ke
             if (count == 0) continue;
 #if defined(SLUICE_HAVE_AVX512)
             if constexpr (Dim == 2) {
-              double sum0 = 0.0, sum1 = 0.0, drho = 0.0;
-              pair_loop.template run<WithArtificialPressure>(i, neighbors.index.data(), neighbors.separation[0].data(),
-                                                           neighbors.separation[1].data(), count, sum0, sum1, drho,
-                                                           vij2_max_v, r2_min_v);
-              acc0[i] += sum0;
-              acc1[i] += sum1;
-              density_rate[i] += drho;
-              continue;
+              if (!s.portable_pair_loop) {
+                double sum0 = 0.0, sum1 = 0.0, drho = 0.0;
+                pair_loop.template run<WithArtificialPressure>(i, neighbors.index.data(),
+                                                             neighbors.separation[0].data(),
+                                                             neighbors.separation[1].data(), count, sum0, sum1,
+                                                             drho, vij2_max_v, r2_min_v);
+                acc0[i] += sum0;
+                acc1[i] += sum1;
+                density_rate[i] += drho;
+                continue;
+              }
             }
 #endif
             // Pad the list to whole SIMD vectors with entries outside the support (j = i at a distance
@@ -506,7 +511,7 @@ RateSummary compute_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const Ke
 // to fluid particles for which `select(i)` is true. `out` is scratch of size n.
 template <int Dim, class Kernel, class Select>
 void shepard_filter(Particles<Dim>& p, const CellGrid<Dim>& grid, const Kernel& kernel, double mass,
-                    std::vector<double>& out, int threads, Select select) {
+                    std::vector<double>& out, int threads, Select select, bool portable = false) {
   const long n = static_cast<long>(p.size());
   const double support2 = Kernel::support * Kernel::support * kernel.h * kernel.h;
   const auto& cell_of = grid.cell_of();
@@ -517,26 +522,28 @@ void shepard_filter(Particles<Dim>& p, const CellGrid<Dim>& grid, const Kernel& 
     double weighted_mass = 0.0, weighted_volume = 0.0;
 #if defined(SLUICE_HAVE_AVX512)
     if constexpr (Dim == 2) {
-      // Eight candidates at a time; those outside the support have W = 0 exactly (q is clamped at 2),
-      // and the lanes past the end of a range are placed outside it.
-      using simd::Mask8;
-      using simd::V8;
-      const double x_i = p.position[0][i];
-      const V8 xi = x_i, yi = p.position[1][i];
-      const double outside = x_i + 2.0 * Kernel::support * kernel.h;  // a position outside i's support
-      V8 mass_sum = 0.0, volume_sum = 0.0;
-      grid.for_each_neighbor_range(cell_of[i], [&](std::uint32_t begin, std::uint32_t end) {
-        for (std::uint32_t j = begin; j < end; j += 8) {
-          const Mask8 valid{end - j >= 8 ? __mmask8(0xFF) : __mmask8((1u << (end - j)) - 1u)};
-          const V8 dx = xi - V8::load(valid, p.position[0].data() + j, outside);
-          const V8 dy = yi - V8::load(valid, p.position[1].data() + j, 0.0);
-          const V8 w = kernel.value_inside(simd::sqrt(dx * dx + dy * dy));
-          mass_sum += w;
-          volume_sum += w * simd::quotient(mass, V8::load(valid, p.density.data() + j, 1.0));
-        }
-      });
-      out[i] = mass * simd::reduce_add(mass_sum) / simd::reduce_add(volume_sum);
-      continue;
+      if (!portable) {
+        // Eight candidates at a time; those outside the support have W = 0 exactly (q is clamped at 2),
+        // and the lanes past the end of a range are placed outside it.
+        using simd::Mask8;
+        using simd::V8;
+        const double x_i = p.position[0][i];
+        const V8 xi = x_i, yi = p.position[1][i];
+        const double outside = x_i + 2.0 * Kernel::support * kernel.h;  // a position outside i's support
+        V8 mass_sum = 0.0, volume_sum = 0.0;
+        grid.for_each_neighbor_range(cell_of[i], [&](std::uint32_t begin, std::uint32_t end) {
+          for (std::uint32_t j = begin; j < end; j += 8) {
+            const Mask8 valid{end - j >= 8 ? __mmask8(0xFF) : __mmask8((1u << (end - j)) - 1u)};
+            const V8 dx = xi - V8::load(valid, p.position[0].data() + j, outside);
+            const V8 dy = yi - V8::load(valid, p.position[1].data() + j, 0.0);
+            const V8 w = kernel.value_inside(simd::sqrt(dx * dx + dy * dy));
+            mass_sum += w;
+            volume_sum += w * simd::quotient(mass, V8::load(valid, p.density.data() + j, 1.0));
+          }
+        });
+        out[i] = mass * simd::reduce_add(mass_sum) / simd::reduce_add(volume_sum);
+        continue;
+      }
     }
 #endif
     grid.for_each_neighbor_range(cell_of[i], [&](std::uint32_t begin, std::uint32_t end) {
