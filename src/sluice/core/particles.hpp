@@ -72,14 +72,15 @@ struct Particles {
     kind_scratch_.resize(static_cast<std::size_t>(n));
     id_scratch_.resize(static_cast<std::size_t>(n));
     repair_scratch_.resize(static_cast<std::size_t>(n));
-    std::vector<std::vector<double>*> fields;
-    for (auto& f : position) fields.push_back(&f);
-    for (auto& f : velocity) fields.push_back(&f);
-    fields.push_back(&density);
+    std::array<std::vector<double>*, 4 * Dim + 2> fields{};
+    std::size_t count = 0;
+    for (auto& f : position) fields[count++] = &f;
+    for (auto& f : velocity) fields[count++] = &f;
+    fields[count++] = &density;
     if (with_step_start) {
-      for (auto& f : position_start) fields.push_back(&f);
-      for (auto& f : velocity_start) fields.push_back(&f);
-      fields.push_back(&density_start);
+      for (auto& f : position_start) fields[count++] = &f;
+      for (auto& f : velocity_start) fields[count++] = &f;
+      fields[count++] = &density_start;
     }
     const std::uint32_t* __restrict from = order.data();
     // One parallel region for all the fields (a region per field cost more than the copies on two
@@ -93,7 +94,8 @@ struct Particles {
         id_scratch_[k] = id[from[k]];
         repair_scratch_[k] = needs_density_repair[from[k]];
       }
-      for (std::vector<double>* field : fields) {
+      for (std::size_t f = 0; f < count; ++f) {
+        std::vector<double>* const field = fields[f];
         const double* __restrict in = field->data();
         double* __restrict out = scratch.data();
 #pragma omp for schedule(static)

@@ -186,12 +186,6 @@ class CellGrid {
   // neighbours of a particle lie in its own band and the next one, so bands of the same parity can be
   // processed at the same time without two of them writing to the same particle.
   [[nodiscard]] std::size_t band_count() const { return static_cast<std::size_t>(count_[Dim - 1]); }
-  // The (sorted) particle indices of band b: [first, last).
-  [[nodiscard]] std::pair<std::uint32_t, std::uint32_t> band_particles(std::size_t b) const {
-    const std::size_t stride = cell_count() / band_count();
-    return {cell_start_[b * stride], cell_start_[(b + 1) * stride]};
-  }
-
  private:
   std::array<double, Dim> lower_{};
   std::array<int, Dim> count_{};

@@ -172,13 +172,6 @@ void collect_in_ranges(ForEachRange&& for_each_range, const std::array<double, D
   list.count = count;
 }
 
-// All neighbours j != i of a particle at xi in cell `cell`.
-template <int Dim>
-void collect_neighbors(const CellGrid<Dim>& grid, std::uint32_t cell, const std::array<double, Dim>& xi,
-                       const std::array<const double*, Dim>& x, double support2, double min_r2,
-                       NeighborList<Dim>& list) {
-  collect_in_ranges<Dim>([&](auto&& f) { grid.for_each_neighbor_range(cell, f); }, xi, x, support2, min_r2, list);
-}
 
 #if defined(SLUICE_HAVE_AVX512)
 // The pair terms of a particle i and its `count` listed neighbours, eight pairs at a time (2D), with
