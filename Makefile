@@ -2,18 +2,25 @@
 BUILD_DIR ?= build/release
 JOBS ?= $(shell nproc)
 
-.PHONY: all setup build run test test-all bench asan fuzz clean
+.PHONY: all setup configure build build-sluice run test test-all bench asan fuzz clean
 
 all: build
 
 setup:
 	@bash scripts/setup.sh
 
-build: setup
+configure: setup
 	@cmake --preset release >/dev/null
+
+# Everything: the program, the tests and the benchmarks.
+build: configure
 	@cmake --build --preset release -j $(JOBS)
 
-run: build
+# The program alone: what `make run` needs.
+build-sluice: configure
+	@cmake --build --preset release -j $(JOBS) --target sluice
+
+run: build-sluice
 	./$(BUILD_DIR)/sluice run -o out/dam_break --render speed
 
 test: build
@@ -23,7 +30,8 @@ test: build
 test-all: build
 	ctest --preset release -j $(JOBS)
 
-bench: build
+bench: configure
+	@cmake --build --preset release -j $(JOBS) --target sluice-bench-run
 	./$(BUILD_DIR)/sluice-bench-run --csv bench/results.csv
 
 # The tests under AddressSanitizer + UBSan. ASAN_LABELS (labels joined by |) builds and runs only those

@@ -21,11 +21,11 @@ struct Fixture {
 
   explicit Fixture(double dx) : c(*load_builtin_case("dam_break")) {
     apply_override(c, "domain.dx=" + std::to_string(dx));
-    particles = build_setup(c).particles;
+    particles = build_setup<2>(c).particles;
     const double h = c.smoothing_length();
     grid = CellGrid<2>({-1.0, -1.0}, {c.tank_width + 1.0, c.tank_height + 1.0}, 2.0 * h);
     settings = {c.rest_density * c.dx * c.dx, h, c.viscosity, c.artificial_viscosity, c.density_diffusion,
-                c.gravity, TaitEos{c.rest_density, c.sound_speed, c.gamma}};
+                first<2>(c.gravity), TaitEos{c.rest_density, c.sound_speed, c.gamma}};
     grid.bin(particles.position);
     particles.permute(grid.order(), scratch, false, 1);
     terms.compute(particles, settings.eos, 1);

@@ -59,7 +59,7 @@ Result measure(double dx, int threads, long steps) {
   Result r;
   r.dx = dx;
   r.threads = threads;
-  r.particles = static_cast<long>(sim.particles().size());
+  r.particles = static_cast<long>(sim.particles<2>().size());
   r.evaluations_per_step = sim.force_evaluations_per_step();
   const auto start = std::chrono::steady_clock::now();
   do {

@@ -76,18 +76,21 @@ inline Outcome check_checkpoint_bytes(const std::string& bytes) {
   require(usable(cp.clock.time) && usable(cp.clock.last_dt) && usable(cp.wall_seconds) && cp.clock.step >= 0 &&
               cp.clock.leaks >= 0,
           "an accepted checkpoint has an impossible clock");
-  const Particles<2>& p = cp.particles;
-  const std::size_t n = p.size();
-  require(p.position[0].size() == n && p.position[1].size() == n && p.velocity[0].size() == n &&
-              p.velocity[1].size() == n && p.kind.size() == n && p.id.size() == n &&
-              p.needs_density_repair.size() == n,
-          "an accepted checkpoint has particle arrays of different lengths");
-  std::vector<bool> seen(n, false);
-  for (std::size_t i = 0; i < n; ++i) {
-    require(static_cast<std::uint8_t>(p.kind[i]) <= 1, "an accepted checkpoint has an unknown particle kind");
-    require(p.id[i] < n && !seen[p.id[i]], "an accepted checkpoint's ids are not a permutation");
-    seen[p.id[i]] = true;
-  }
+  std::visit(
+      [&](const auto& p) {
+        const std::size_t n = p.size();
+        bool same_lengths = p.kind.size() == n && p.id.size() == n && p.needs_density_repair.size() == n;
+        for (const auto& component : p.position) same_lengths = same_lengths && component.size() == n;
+        for (const auto& component : p.velocity) same_lengths = same_lengths && component.size() == n;
+        require(same_lengths, "an accepted checkpoint has particle arrays of different lengths");
+        std::vector<bool> seen(n, false);
+        for (std::size_t i = 0; i < n; ++i) {
+          require(static_cast<std::uint8_t>(p.kind[i]) <= 1, "an accepted checkpoint has an unknown particle kind");
+          require(p.id[i] < n && !seen[p.id[i]], "an accepted checkpoint's ids are not a permutation");
+          seen[p.id[i]] = true;
+        }
+      },
+      cp.particles);
   return Outcome::accepted;
 }
 

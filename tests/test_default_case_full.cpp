@@ -15,7 +15,7 @@ TEST(DefaultCase, RunsStableToThirtySeconds) {
   const auto start = std::chrono::steady_clock::now();
   while (sim.time() < c.end_time) {
     sim.step(c.end_time);
-    const auto& p = sim.particles();
+    const auto& p = sim.particles<2>();
     for (std::size_t i = 0; i < p.size(); ++i) {
       const double speed = std::hypot(p.velocity[0][i], p.velocity[1][i]);
       ASSERT_TRUE(std::isfinite(p.position[0][i]) && std::isfinite(p.position[1][i]) && std::isfinite(speed));

@@ -10,7 +10,7 @@ namespace {
 
 // State in particle-id order.
 std::vector<double> state_by_id(const Simulation& sim) {
-  const auto& p = sim.particles();
+  const auto& p = sim.particles<2>();
   std::vector<double> out(5 * p.size());
   for (std::size_t i = 0; i < p.size(); ++i) {
     const std::size_t row = 5 * p.id[i];

@@ -156,8 +156,8 @@ TEST(FuzzRegressions, FixingTheChecksumsReachesTheParsingBehindThem) {
   EXPECT_NE(g.time, f.time);
   EXPECT_EQ(g.step, 7);
 
-  // Signature, version 1, dimension 2, a case text length far past the end, then a checksum.
-  std::string checkpoint = std::string("SLUICECK") + '\x01' + std::string(3, '\0') + '\x02' + std::string(3, '\0') +
+  // Signature, version 2, dimension 2, a case text length far past the end, then a checksum.
+  std::string checkpoint = std::string("SLUICECK") + '\x02' + std::string(3, '\0') + '\x02' + std::string(3, '\0') +
                            std::string(8, '\x7f') + std::string(4, '\0');
   auto message_of = [](const std::string& bytes) -> std::string {
     try {

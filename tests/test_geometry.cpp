@@ -4,7 +4,9 @@
 #include <cmath>
 
 #include "sluice/case/params.hpp"
+#include "sluice/geometry/box.hpp"
 #include "sluice/geometry/leaks.hpp"
+#include "sluice/geometry/polygon.hpp"
 #include "sluice/geometry/setup.hpp"
 #include "sluice/physics/eos.hpp"
 
@@ -19,7 +21,7 @@ TEST(Polygon, ContainsAndClosestBoundaryPoint) {
   EXPECT_DOUBLE_EQ(c[0], 2.0);
   EXPECT_DOUBLE_EQ(c[1], 0.5);
   EXPECT_DOUBLE_EQ(box.area(), 2.0);
-  const Polygon triangle{{{0.0, 0.0}, {4.0, 0.0}, {4.0, 2.0}}};  // a 1:2 slope
+  const Polygon triangle({{0.0, 0.0}, {4.0, 0.0}, {4.0, 2.0}});  // a 1:2 slope
   EXPECT_TRUE(triangle.contains({3.0, 1.0}));
   EXPECT_FALSE(triangle.contains({1.0, 1.0}));
   EXPECT_NEAR(triangle.distance_to_boundary({2.0, 1.0}), 0.0, 1e-12);
@@ -28,7 +30,7 @@ TEST(Polygon, ContainsAndClosestBoundaryPoint) {
 TEST(Setup, DefaultTankHasThreeWallLayersAtDxSpacing) {
   const Case c = *load_builtin_case("dam_break");
   EXPECT_EQ(wall_layers(c), 3);  // 2h = 0.52 m at dx = 0.2 m
-  const sluice::Setup s = build_setup(c);
+  const sluice::Setup<2> s = build_setup<2>(c);
   std::size_t walls = 0, fluid = 0;
   for (std::size_t i = 0; i < s.particles.size(); ++i) (s.particles.is_fluid(i) ? fluid : walls)++;
   // Bottom and lid: 3 rows of 106 columns (x from -0.5 to 20.5); each side: 3 columns of 50 rows.
@@ -47,8 +49,8 @@ TEST(Setup, DefaultTankHasThreeWallLayersAtDxSpacing) {
 
 TEST(Setup, WaterOverlappingAnObstacleLeavesNoFluidOnAWallPoint) {
   Case c = *load_builtin_case("dam_break");
-  c.walls.push_back(Region{"box", {5.0, 0.0}, {6.0, 1.0}, {}});
-  const sluice::Setup s = build_setup(c);
+  c.walls.push_back(Region{Shape::box, {5.0, 0.0, 0.0}, {6.0, 1.0, 0.0}, {}});
+  const sluice::Setup<2> s = build_setup<2>(c);
   double closest = 1e9;
   for (std::size_t i = 0; i < s.particles.size(); ++i) {
     if (!s.particles.is_fluid(i)) continue;
@@ -63,7 +65,7 @@ TEST(Setup, WaterOverlappingAnObstacleLeavesNoFluidOnAWallPoint) {
 
 TEST(Setup, HydrostaticStartMatchesTheTaitEquationAtDepth) {
   const Case c = *load_builtin_case("dam_break");
-  const sluice::Setup s = build_setup(c);
+  const sluice::Setup<2> s = build_setup<2>(c);
   const TaitEos eos{c.rest_density, c.sound_speed, c.gamma};
   for (std::size_t i = 0; i < s.particles.size(); ++i) {
     const double x = s.particles.position[0][i], y = s.particles.position[1][i];
@@ -79,7 +81,7 @@ TEST(Leaks, AParticleInsideAWallIsPutBackWithItsNormalVelocityReversed) {
   p.velocity[0][0] = 1.0;
   p.velocity[1][0] = -2.0;
   p.add({0.5, 0.5}, Kind::fluid, 1000.0);  // in the water: untouched
-  const std::vector<Polygon> solids = {Polygon::box({-0.3, -0.3}, {2.3, 0.0})};
+  const Solids<2> solids = {std::make_shared<Polygon>(Polygon::box({-0.3, -0.3}, {2.3, 0.0}))};
   const double dx = 0.1;
   EXPECT_EQ(put_back_leaked(p, solids, dx), 1u);
   EXPECT_NEAR(p.position[0][0], 0.5, 1e-12);
@@ -103,4 +105,83 @@ TEST(Setup, NearCoincidentPointsKeepOneOfEachPair) {
   ASSERT_EQ(p.size(), 3u);
   EXPECT_EQ(p.kind[0], Kind::wall);
   for (std::size_t i = 0; i < p.size(); ++i) EXPECT_EQ(p.id[i], i);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The solid interface in 3D
+
+TEST(Box, InsideSignedDistanceAndClosestPointWithOutwardNormal) {
+  const Box<3> box({0.0, 0.0, 0.0}, {2.0, 1.0, 1.0});
+  EXPECT_TRUE(box.contains({1.0, 0.5, 0.5}));
+  EXPECT_FALSE(box.contains({1.0, 0.5, 1.5}));
+  EXPECT_DOUBLE_EQ(box.signed_distance({1.0, 0.5, 0.9}), -0.1);
+  EXPECT_DOUBLE_EQ(box.signed_distance({3.0, 0.5, 0.5}), 1.0);
+  EXPECT_DOUBLE_EQ(box.signed_distance({3.0, 2.0, 0.5}), std::sqrt(2.0));  // off an edge
+  const SurfacePoint<3> inside = box.closest_surface_point({1.0, 0.5, 0.9});
+  EXPECT_DOUBLE_EQ(inside.point[2], 1.0);
+  EXPECT_EQ(inside.normal, (Vec<3>{0.0, 0.0, 1.0}));
+  const SurfacePoint<3> outside = box.closest_surface_point({1.0, -0.5, 0.5});
+  EXPECT_DOUBLE_EQ(outside.point[1], 0.0);
+  EXPECT_EQ(outside.normal, (Vec<3>{0.0, -1.0, 0.0}));
+}
+
+TEST(Polygon, SignedDistanceAndOutwardNormal) {
+  const Polygon box = Polygon::box({0.0, 0.0}, {2.0, 1.0});
+  EXPECT_DOUBLE_EQ(box.signed_distance({1.0, 0.9}), -0.1);
+  EXPECT_DOUBLE_EQ(box.signed_distance({1.0, 1.5}), 0.5);
+  EXPECT_NEAR(box.closest_surface_point({1.0, 0.9}).normal[1], 1.0, 1e-12);
+  EXPECT_NEAR(box.closest_surface_point({1.0, 1.5}).normal[1], 1.0, 1e-12);
+  EXPECT_NEAR(box.closest_surface_point({-0.5, 0.5}).normal[0], -1.0, 1e-12);
+}
+
+Case box_tank_3d(double dx) {
+  return parse_case("[domain]\ndimension = 3\ndx = " + std::to_string(dx) +
+                        "\n[tank]\nwidth = 1.0\ndepth = 0.6\nheight = 0.8\n"
+                        "[[water]]\nmin = [0, 0, 0]\nmax = [0.4, 0.6, 0.5]\n",
+                    "3D box tank");
+}
+
+TEST(Setup, ThreeDimensionalTankHasItsWallLayersOnEveryFaceAndNoDuplicates) {
+  const Case c = box_tank_3d(0.1);
+  const int layers = wall_layers(c);  // 2h = 0.26 m: 3 layers
+  ASSERT_EQ(layers, 3);
+  const sluice::Setup<3> s = build_setup<3>(c);
+  EXPECT_EQ(s.removed_near_coincident, 0u);  // the slabs do not overlap
+  std::size_t walls = 0, fluid = 0;
+  for (std::size_t i = 0; i < s.particles.size(); ++i) (s.particles.is_fluid(i) ? fluid : walls)++;
+  // The wall lattice is the box [-0.3, 1.3] x [-0.3, 0.9] x [-0.3, 1.1] (16 x 12 x 14 points) minus
+  // the inside (10 x 6 x 8).
+  EXPECT_EQ(walls, 16u * 12u * 14u - 10u * 6u * 8u);
+  EXPECT_EQ(fluid, 4u * 6u * 5u);
+  // Every wall particle lies behind the nearest inner face by (k + 1/2) dx, k < layers.
+  for (std::size_t i = 0; i < s.particles.size(); ++i) {
+    if (s.particles.is_fluid(i)) continue;
+    const double x = s.particles.position[0][i], y = s.particles.position[1][i], z = s.particles.position[2][i];
+    const double depth = std::max({-x, x - c.tank_width, -y, y - c.tank_depth, -z, z - c.tank_height});
+    EXPECT_GT(depth, 0.0);
+    EXPECT_LT(depth, layers * c.dx);
+    EXPECT_NEAR(std::fmod(depth + 1e-9, c.dx), 0.5 * c.dx, 1e-6);
+  }
+  EXPECT_EQ(s.solids.size(), 6u);  // floor, four sides, lid
+}
+
+TEST(Setup, ThreeDimensionalHydrostaticStartAlongZ) {
+  const Case c = box_tank_3d(0.1);
+  const sluice::Setup<3> s = build_setup<3>(c);
+  const TaitEos eos{c.rest_density, c.sound_speed, c.gamma};
+  for (std::size_t i = 0; i < s.particles.size(); ++i) {
+    if (!s.particles.is_fluid(i)) continue;
+    EXPECT_NEAR(eos.pressure(s.particles.density[i]), c.rest_density * 9.81 * (0.5 - s.particles.position[2][i]), 1e-6);
+  }
+}
+
+TEST(Leaks, ThreeDimensionalPutBackThroughTheNearestFace) {
+  Particles<3> p;
+  p.add({0.5, 0.4, -0.03}, Kind::fluid, 1000.0);
+  p.velocity[2][0] = -2.0;
+  const Solids<3> solids = {std::make_shared<Box<3>>(Vec<3>{-0.3, -0.3, -0.3}, Vec<3>{1.3, 0.9, 0.0})};
+  EXPECT_EQ(put_back_leaked(p, solids, 0.1), 1u);
+  EXPECT_NEAR(p.position[2][0], 0.05, 1e-12);
+  EXPECT_NEAR(p.velocity[2][0], 2.0, 1e-12);
+  EXPECT_EQ(p.needs_density_repair[0], 1);
 }

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <fmt/format.h>
+#include <zlib.h>
 
 #include <algorithm>
 #include <csignal>
@@ -91,6 +92,14 @@ type = "pressure"
 point = [0.2, 0.1]
 )",
                     "I/O test case");
+}
+
+// The bytes with their trailing CRC-32 recomputed, so that a change reaches the parser behind it.
+std::string with_crc_fixed(std::string bytes) {
+  const auto crc = static_cast<std::uint32_t>(
+      crc32(0L, reinterpret_cast<const Bytef*>(bytes.data()), static_cast<uInt>(bytes.size() - 4)));
+  std::memcpy(bytes.data() + bytes.size() - 4, &crc, 4);
+  return bytes;
 }
 
 template <class F>
@@ -254,8 +263,14 @@ class CheckpointFile : public ::testing::Test {
 };
 
 TEST_F(CheckpointFile, RoundTripRestoresTheExactState) {
-  const Checkpoint cp = parse_checkpoint(bytes_, "checkpoint.bin");
-  const Particles<2>& p = sim_->particles();
+  const Checkpoint checkpoint = parse_checkpoint(bytes_, "checkpoint.bin");
+  struct {
+    Case config;
+    Clock clock;
+    Particles<2> particles;
+    double wall_seconds;
+  } cp{checkpoint.config, checkpoint.clock, std::get<Particles<2>>(checkpoint.particles), checkpoint.wall_seconds};
+  const Particles<2>& p = sim_->particles<2>();
   EXPECT_EQ(case_template(cp.config), case_template(sim_->config()));
   EXPECT_EQ(cp.clock.time, sim_->clock().time);
   EXPECT_EQ(cp.clock.step, 25);
@@ -281,11 +296,11 @@ TEST_F(CheckpointFile, ContinuingFromItIsBitForBitTheSame) {
     resumed.step();
   }
   EXPECT_EQ(resumed.clock().time, sim_->clock().time);
-  EXPECT_EQ(resumed.particles().id, sim_->particles().id);
-  EXPECT_EQ(resumed.particles().position[0], sim_->particles().position[0]);
-  EXPECT_EQ(resumed.particles().position[1], sim_->particles().position[1]);
-  EXPECT_EQ(resumed.particles().velocity[1], sim_->particles().velocity[1]);
-  EXPECT_EQ(resumed.particles().density, sim_->particles().density);
+  EXPECT_EQ(resumed.particles<2>().id, sim_->particles<2>().id);
+  EXPECT_EQ(resumed.particles<2>().position[0], sim_->particles<2>().position[0]);
+  EXPECT_EQ(resumed.particles<2>().position[1], sim_->particles<2>().position[1]);
+  EXPECT_EQ(resumed.particles<2>().velocity[1], sim_->particles<2>().velocity[1]);
+  EXPECT_EQ(resumed.particles<2>().density, sim_->particles<2>().density);
 }
 
 TEST_F(CheckpointFile, AFlippedByteIsAChecksumMismatch) {
@@ -308,6 +323,32 @@ TEST_F(CheckpointFile, AnotherFormatVersionNamesBothVersions) {
                                      checkpoint_format_version)),
             std::string::npos)
       << message;
+}
+
+TEST_F(CheckpointFile, AVersionOneCheckpointIsAClearError) {
+  std::string old = bytes_;
+  const std::uint32_t version = 1;
+  std::memcpy(old.data() + 8, &version, sizeof version);
+  const std::string message = error_of([&] { parse_checkpoint(old, "old.bin"); });
+  EXPECT_NE(message.find("old.bin: not a usable checkpoint: format version 1, written by an earlier sluice"),
+            std::string::npos)
+      << message;
+}
+
+TEST_F(CheckpointFile, TheFieldTableNamesEachFieldOfTheRegistry) {
+  // Every field the registry marks for checkpoints is stored under its name, in registry order.
+  std::size_t from = 0;
+  Particles<2>::fields(sim_->particles<2>(), [&](const FieldSpec& f, const auto&) {
+    if (!f.has(field_role::checkpoint)) return;
+    const auto at = bytes_.find(std::string(f.name), from);
+    EXPECT_NE(at, std::string::npos) << f.name;
+    from = at;
+  });
+  // A field renamed in the file is refused with both names.
+  std::string renamed = bytes_;
+  renamed.replace(renamed.find("velocity"), 8, "velocitx");
+  const std::string message = error_of([&] { parse_checkpoint(with_crc_fixed(renamed), "r.bin"); });
+  EXPECT_NE(message.find("field 'velocitx' where 'velocity' was expected"), std::string::npos) << message;
 }
 
 TEST_F(CheckpointFile, TruncatedOrForeignFilesAreClearErrors) {
@@ -422,10 +463,11 @@ TEST(Probes, CsvRowsUntilKeepsTheHeaderAndEarlierRows) {
 
 TEST(Probes, HeadersNameTheColumns) {
   Probe p;
-  p.type = "pressure";
-  EXPECT_EQ(probe_header(p), "time,pressure,neighbours");
-  p.type = "gauge";
-  EXPECT_EQ(probe_header(p), "time,height");
-  p.type = "front";
-  EXPECT_EQ(probe_header(p), "time,distance,x,y");
+  p.type = ProbeType::pressure;
+  EXPECT_EQ(probe_header(p, 2), "time,pressure,neighbours");
+  p.type = ProbeType::gauge;
+  EXPECT_EQ(probe_header(p, 2), "time,height");
+  p.type = ProbeType::front;
+  EXPECT_EQ(probe_header(p, 2), "time,distance,x,y");
+  EXPECT_EQ(probe_header(p, 3), "time,distance,x,y,z");
 }

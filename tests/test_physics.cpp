@@ -14,7 +14,7 @@ using namespace sluice;
 namespace {
 
 double max_fluid_speed(const Simulation& sim) {
-  const auto& p = sim.particles();
+  const auto& p = sim.particles<2>();
   double vmax = 0.0;
   for (std::size_t i = 0; i < p.size(); ++i)
     if (p.is_fluid(i)) vmax = std::max(vmax, std::hypot(p.velocity[0][i], p.velocity[1][i]));
@@ -48,7 +48,7 @@ TEST_P(Hydrostatic, StillWaterStaysAtRestWithHydrostaticPressure) {
     worst_speed = std::max(worst_speed, max_fluid_speed(sim));
   }
   // Mean pressure in the bottom layer of fluid (centres within dx of the floor), against rho0 g H.
-  const auto& p = sim.particles();
+  const auto& p = sim.particles<2>();
   double sum = 0.0;
   int count = 0;
   for (std::size_t i = 0; i < p.size(); ++i)
@@ -93,7 +93,7 @@ max = [5.0, 8.0]
   c.hydrostatic_start = false;
   Simulation sim(c, 1);
   const auto momentum = [&](int d) {
-    const auto& p = sim.particles();
+    const auto& p = sim.particles<2>();
     double s = 0.0;
     for (std::size_t i = 0; i < p.size(); ++i)
       if (p.is_fluid(i)) s += sim.particle_mass() * p.velocity[d][i];
@@ -123,7 +123,7 @@ TEST_P(DefaultCaseInvariants, HoldForTheWholeRun) {
   std::int64_t checks = 0;
   while (sim.time() < c.end_time) {
     sim.step(c.end_time);
-    const auto& p = sim.particles();
+    const auto& p = sim.particles<2>();
     for (std::size_t i = 0; i < p.size(); ++i) {
       const double x = p.position[0][i], y = p.position[1][i], rho = p.density[i];
       const double speed = std::hypot(p.velocity[0][i], p.velocity[1][i]);
@@ -197,7 +197,7 @@ TEST(Beach, RunsToItsEndWithoutLeaksAndWithTheInvariants) {
     ASSERT_LE(d.max_density, 1.5 * c.rest_density);
     ASSERT_LT(d.max_speed, c.sound_speed);
     // No fluid inside the beach: it lies below the line y = (x - 12)/2.
-    const auto& p = sim.particles();
+    const auto& p = sim.particles<2>();
     for (std::size_t i = 0; i < p.size(); ++i) {
       if (!p.is_fluid(i)) continue;
       ASSERT_GT(p.position[1][i], 0.5 * (p.position[0][i] - 12.0) - 1e-9) << "t = " << sim.time();

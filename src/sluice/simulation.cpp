@@ -1,228 +1,34 @@
-#include "sluice/core/parallel.hpp"
 #include "sluice/simulation.hpp"
 
-#include <algorithm>
-#include <cmath>
 #include <stdexcept>
 
 #include <fmt/format.h>
 
-#include "sluice/geometry/leaks.hpp"
-#include "sluice/geometry/setup.hpp"
-#include "sluice/integrate/integrators.hpp"
-
 namespace sluice {
 
-Simulation::Simulation(const Case& c, int threads) : threads_(std::max(1, threads)) {
-  Setup s = build_setup(c);
-  particles_ = std::move(s.particles);
-  particles_.resize(particles_.size());  // size the rate and step-start fields
-  solids_ = std::move(s.solids);
-  removed_near_coincident_ = s.removed_near_coincident;
-  init(c);
+namespace {
+
+std::variant<Solver<2>, Solver<3>> make_solver(const Case& c, int threads) {
+  if (c.dimension == 3) return Solver<3>(c, threads);
+  if (c.dimension == 2) return Solver<2>(c, threads);
+  throw std::invalid_argument(fmt::format("domain.dimension = {}: expected 2 or 3", c.dimension));
 }
 
-Simulation::Simulation(const Case& c, Particles<2> particles, Clock clock, int threads)
-    : particles_(std::move(particles)), clock_(clock), threads_(std::max(1, threads)) {
-  // The wall geometry is rebuilt from the case; the particles come from the saved state.
-  solids_ = build_setup(c).solids;
-  init(c);
+std::variant<Solver<2>, Solver<3>> resume_solver(const Case& c, AnyParticles particles, Clock clock, int threads) {
+  const int dim = std::holds_alternative<Particles<3>>(particles) ? 3 : 2;
+  if (dim != c.dimension)
+    throw std::invalid_argument(
+        fmt::format("saved particles are {}D but the case is {}D (domain.dimension = {})", dim, c.dimension,
+                    c.dimension));
+  if (dim == 3) return Solver<3>(c, std::get<Particles<3>>(std::move(particles)), clock, threads);
+  return Solver<2>(c, std::get<Particles<2>>(std::move(particles)), clock, threads);
 }
 
-void Simulation::init(const Case& c) {
-  case_ = c;
-  const double h = c.smoothing_length();
-  settings_.mass = c.rest_density * c.dx * c.dx;
-  settings_.h = h;
-  settings_.viscosity = c.viscosity;
-  settings_.alpha = c.artificial_viscosity;
-  adami_walls_ = c.wall_boundary == "adami";
-  settings_.wall_alpha_factor = adami_walls_ ? 0.0 : 1.0;  // Adami walls: free slip
-  settings_.artificial_pressure = c.artificial_pressure;
-  settings_.artificial_pressure_exponent = c.artificial_pressure_exponent;
-  settings_.spacing = c.dx;
-  settings_.delta = c.density_diffusion;
-  settings_.gravity = c.gravity;
-  settings_.eos = TaitEos{c.rest_density, c.sound_speed, c.gamma};
-  predictor_corrector_ = c.integrator == "predictor_corrector";
-  if (c.kernel == "wendland_c2") kernel_ = WendlandC2<2>(h);
-  else kernel_ = CubicSpline<2>(h);
-  // The grid covers the tank and its walls with a margin; strays are clamped into edge cells.
-  const int layers = wall_layers(c);
-  const double margin = (layers + 2) * c.dx + 2.0 * h;
-  grid_ = CellGrid<2>({-margin, -margin}, {c.tank_width + margin, c.tank_height + margin}, 2.0 * h);
-}
+}  // namespace
 
-RateSummary Simulation::evaluate(bool shepard_due, bool mid_step) {
-  grid_.bin(particles_.position, threads_);
-  particles_.permute(grid_.order(), scratch_, mid_step, threads_);
-  const bool repair_due = std::any_of(particles_.needs_density_repair.begin(), particles_.needs_density_repair.end(),
-                                      [](std::uint8_t f) { return f != 0; });
-  return std::visit(
-      [&](const auto& kernel) {
-        if (shepard_due || repair_due) {
-          const auto& repair = particles_.needs_density_repair;
-          shepard_filter(particles_, grid_, kernel, settings_.mass, scratch_, threads_,
-                         [&](std::size_t i) { return shepard_due || repair[i] != 0; });
-          std::fill(particles_.needs_density_repair.begin(), particles_.needs_density_repair.end(), 0);
-        }
-        // Adami walls: the wall pressure (density) is extrapolated from the fluid just before the pair
-        // loop, and not integrated (the wall density rates are zeroed).
-        if (adami_walls_)
-          extrapolate_wall_density(particles_, grid_, kernel, settings_.eos, settings_.gravity, threads_);
-        terms_.compute(particles_, settings_.eos, threads_, settings_.artificial_pressure);
-        using K = std::decay_t<decltype(kernel)>;
-        const RateSummary summary =
-            settings_.artificial_pressure > 0.0
-                ? compute_rates<2, K, true>(particles_, grid_, kernel, settings_, terms_, threads_)
-                : compute_rates<2, K, false>(particles_, grid_, kernel, settings_, terms_, threads_);
-        if (adami_walls_) {
-          const long n = static_cast<long>(particles_.size());
-          for (long i = 0; i < n; ++i)
-            if (!particles_.is_fluid(static_cast<std::size_t>(i))) particles_.density_rate[i] = 0.0;
-        }
-        return summary;
-      },
-      kernel_);
-}
+Simulation::Simulation(const Case& c, int threads) : solver_(make_solver(c, threads)) {}
 
-double Simulation::choose_dt(const RateSummary& r) const {
-  if (case_.fixed_dt > 0.0) return case_.fixed_dt;
-  const double h = settings_.h;
-  const TaitEos& eos = settings_.eos;
-  const double max_sound_speed = eos.local_sound_speed(std::max(r.max_density, eos.rest_density));
-  double dt = h / max_sound_speed;
-  if (r.max_relative_speed > 0.0) dt = std::min(dt, h / r.max_relative_speed);
-  if (r.max_acceleration > 0.0) dt = std::min(dt, std::sqrt(h / r.max_acceleration));
-  return case_.cfl * dt;
-}
-
-void Simulation::step(double time_limit) {
-  const bool shepard_due = case_.shepard_every > 0 && clock_.step > 0 && clock_.step % case_.shepard_every == 0;
-  has_saved_state_ = false;
-  const RateSummary rates = evaluate(shepard_due, false);
-  min_particle_distance_ = rates.min_fluid_distance;
-  saved_clock_ = clock_;
-  double dt = choose_dt(rates);
-  if (!(dt > 0.0) || !std::isfinite(dt))
-    throw std::runtime_error(fmt::format("time step {} at t = {} s is not a positive finite number", dt, clock_.time));
-  // Land exactly on the limit (an output time) rather than step past it.
-  const bool reaches_limit = clock_.time + dt >= time_limit;
-  if (reaches_limit) dt = time_limit - clock_.time;
-  const double floor = settings_.eos.rest_density;
-  if (predictor_corrector_) {
-    predictor_update(particles_, dt, floor, threads_);
-    has_saved_state_ = true;
-    evaluate(false, true);
-    corrector_update(particles_, dt, floor, threads_);
-  } else {
-    particles_.position_start = particles_.position;
-    particles_.velocity_start = particles_.velocity;
-    particles_.density_start = particles_.density;
-    has_saved_state_ = true;
-    euler_update(particles_, dt, floor, threads_);
-  }
-  clock_.leaks += static_cast<std::int64_t>(put_back_leaked(particles_, solids_, case_.dx, threads_));
-  clock_.time = reaches_limit ? time_limit : clock_.time + dt;
-  clock_.last_dt = dt;
-  ++clock_.step;
-}
-
-Diagnostics Simulation::diagnostics() const {
-  Diagnostics d;
-  d.time = clock_.time;
-  d.step = clock_.step;
-  d.dt = clock_.last_dt;
-  d.leaks = clock_.leaks;
-  d.min_density = std::numeric_limits<double>::infinity();
-  d.max_density = -std::numeric_limits<double>::infinity();
-  const double m = settings_.mass;
-  const Particles<2>& p = particles_;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const double rho = p.density[i];
-    d.min_density = std::min(d.min_density, rho);
-    d.max_density = std::max(d.max_density, rho);
-    bool finite = std::isfinite(rho);
-    if (!p.is_fluid(i)) {
-      ++d.wall_particles;
-      d.all_finite = d.all_finite && finite;
-      continue;
-    }
-    ++d.fluid_particles;
-    double v2 = 0.0, g_dot_x = 0.0;
-    for (int k = 0; k < 2; ++k) {
-      v2 += p.velocity[k][i] * p.velocity[k][i];
-      g_dot_x += settings_.gravity[k] * p.position[k][i];
-      finite = finite && std::isfinite(p.position[k][i]) && std::isfinite(p.velocity[k][i]);
-    }
-    d.all_finite = d.all_finite && finite;
-    d.max_speed = std::max(d.max_speed, std::sqrt(v2));
-    d.kinetic_energy += 0.5 * m * v2;
-    d.potential_energy -= m * g_dot_x;
-  }
-  d.total_mass = m * static_cast<double>(d.fluid_particles);
-  d.min_particle_distance = min_particle_distance_;
-  return d;
-}
-
-}  // namespace sluice
-
-namespace sluice {
-
-Health Simulation::check_health(std::size_t max_reported) const {
-  const Particles<2>& p = particles_;
-  const double rho0 = settings_.eos.rest_density;
-  const double reach = wall_layers(case_) * case_.dx + 4.0 * settings_.h;
-  const double top = case_.tank_height + (case_.tank_lid ? reach : std::max(case_.tank_height, reach));
-  auto problem = [&](std::size_t i) -> const char* {
-    const double x = p.position[0][i], y = p.position[1][i], rho = p.density[i];
-    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(p.velocity[0][i]) || !std::isfinite(p.velocity[1][i]) ||
-        !std::isfinite(rho))
-      return "not finite";
-    if (x < -reach || x > case_.tank_width + reach || y < -reach || y > top) return "far outside the tank";
-    if (!(rho > 0.5 * rho0 && rho < 2.0 * rho0)) return "density outside (0.5, 2) rho0";
-    return nullptr;
-  };
-  const long n = static_cast<long>(p.size());
-  long bad = 0;
-#pragma omp parallel for num_threads(threads_) schedule(static) reduction(+ : bad) if (n >= light_loop_parallel_threshold)
-  for (long i = 0; i < n; ++i) bad += problem(static_cast<std::size_t>(i)) != nullptr;
-  Health health;
-  health.offending = static_cast<std::size_t>(bad);
-  if (bad == 0) return health;
-  std::vector<std::size_t> rows;
-  for (std::size_t i = 0; i < p.size(); ++i)
-    if (problem(i) != nullptr) rows.push_back(i);
-  std::sort(rows.begin(), rows.end(), [&](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
-  const double support2 = 4.0 * settings_.h * settings_.h;
-  for (std::size_t k = 0; k < rows.size() && k < max_reported; ++k) {
-    const std::size_t i = rows[k];
-    Offender o;
-    o.id = p.id[i];
-    o.position = {p.position[0][i], p.position[1][i]};
-    o.velocity = {p.velocity[0][i], p.velocity[1][i]};
-    o.density = p.density[i];
-    o.reason = problem(i);
-    for (std::size_t j = 0; j < p.size(); ++j) {
-      const double dx = p.position[0][i] - p.position[0][j], dy = p.position[1][i] - p.position[1][j];
-      if (j != i && dx * dx + dy * dy < support2) ++o.neighbours;
-    }
-    health.first.push_back(o);
-  }
-  return health;
-}
-
-// The state at the start of the step (after the reordering of its first evaluation) lives in the
-// step-start arrays, which the predictor-corrector fills anyway; forward Euler does not use them, so
-// step() fills them there too. No extra memory; restore_saved_state() copies them back.
-void Simulation::restore_saved_state() {
-  if (!has_saved_state_) return;
-  Particles<2>& p = particles_;
-  p.position = p.position_start;
-  p.velocity = p.velocity_start;
-  p.density = p.density_start;
-  std::fill(p.needs_density_repair.begin(), p.needs_density_repair.end(), 0);
-  clock_ = saved_clock_;
-}
+Simulation::Simulation(const Case& c, AnyParticles particles, Clock clock, int threads)
+    : solver_(resume_solver(c, std::move(particles), clock, threads)) {}
 
 }  // namespace sluice

@@ -1,122 +1,80 @@
-// A Simulation is a value: particles, their neighbour grid, the physics settings and the clock.
-// Two of them can live side by side (no global state).
+// A Simulation is a value: the solver of a case in the case's dimension (a Solver<2> or a Solver<3>,
+// chosen at run time), behind one interface for the run loop, the writers and the tests. Two of them
+// can live side by side (no global state).
 #pragma once
 
-#include <cstdint>
 #include <limits>
-#include <string>
 #include <variant>
-#include <vector>
 
-#include "sluice/case/case.hpp"
-#include "sluice/core/particles.hpp"
-#include "sluice/geometry/polygon.hpp"
-#include "sluice/neighbors/cell_grid.hpp"
-#include "sluice/physics/kernel.hpp"
-#include "sluice/physics/rates.hpp"
-#include "sluice/physics/wall_boundary.hpp"
+#include "sluice/solver/solver.hpp"
 
 namespace sluice {
 
-// Everything besides the particles that a restart needs to continue exactly.
-struct Clock {
-  double time = 0.0;
-  std::int64_t step = 0;
-  double last_dt = 0.0;
-  std::int64_t leaks = 0;  // fluid particles put back from inside a wall, summed over the run
-};
-
-struct Diagnostics {
-  double time = 0.0;
-  std::int64_t step = 0;
-  double dt = 0.0;
-  std::size_t fluid_particles = 0;
-  std::size_t wall_particles = 0;
-  double max_speed = 0.0;        // fluid
-  double min_density = 0.0;      // all particles
-  double max_density = 0.0;      // all particles
-  double kinetic_energy = 0.0;   // fluid, J per metre of depth in 2D
-  double potential_energy = 0.0; // fluid, relative to the origin: -m g . x
-  double total_mass = 0.0;       // fluid
-  std::int64_t leaks = 0;
-  bool all_finite = true;
-  double min_particle_distance = 0.0;  // fluid to any particle, at the last step's first evaluation (NaN before)
-};
-
-// A particle that makes a run unusable: non-finite, far outside the tank, or at an absurd density.
-struct Offender {
-  std::uint32_t id = 0;
-  Vec2 position{};
-  Vec2 velocity{};
-  double density = 0.0;
-  int neighbours = 0;  // particles within the kernel support
-  std::string reason;
-};
-
-struct Health {
-  std::size_t offending = 0;       // how many particles are bad
-  std::vector<Offender> first;     // the first few, in id order
-  [[nodiscard]] bool ok() const { return offending == 0; }
-};
+// Particles of either dimension, as a checkpoint holds them.
+using AnyParticles = std::variant<Particles<2>, Particles<3>>;
 
 class Simulation {
  public:
-  static constexpr int dim = 2;
-
   // Builds the particles of a case (setup) and starts at t = 0.
   explicit Simulation(const Case& c, int threads = 1);
-  // Continues from a saved state (restart).
-  Simulation(const Case& c, Particles<2> particles, Clock clock, int threads = 1);
+  // Continues from a saved state (restart); the particles' dimension must be the case's.
+  Simulation(const Case& c, AnyParticles particles, Clock clock, int threads = 1);
+
+  // The solver itself, for code written for any dimension: f(solver) with a Solver<2> or Solver<3>.
+  template <class F>
+  decltype(auto) visit(F&& f) const {
+    return std::visit(std::forward<F>(f), solver_);
+  }
+  template <class F>
+  decltype(auto) visit(F&& f) {
+    return std::visit(std::forward<F>(f), solver_);
+  }
 
   // Advances one time step; a step that would pass time_limit ends exactly on it.
-  void step(double time_limit = std::numeric_limits<double>::infinity());
+  void step(double time_limit = std::numeric_limits<double>::infinity()) {
+    visit([&](auto& s) { s.step(time_limit); });
+  }
+  void restore_saved_state() {
+    visit([](auto& s) { s.restore_saved_state(); });
+  }
 
-  [[nodiscard]] const Particles<2>& particles() const { return particles_; }
-  [[nodiscard]] const Clock& clock() const { return clock_; }
-  [[nodiscard]] double time() const { return clock_.time; }
-  [[nodiscard]] const Case& config() const { return case_; }
-  [[nodiscard]] const std::vector<Polygon>& solids() const { return solids_; }
-  [[nodiscard]] double particle_mass() const { return settings_.mass; }
-  [[nodiscard]] double smoothing_length() const { return settings_.h; }
-  [[nodiscard]] const TaitEos& eos() const { return settings_.eos; }
-  [[nodiscard]] std::size_t removed_near_coincident() const { return removed_near_coincident_; }
-  [[nodiscard]] int force_evaluations_per_step() const { return predictor_corrector_ ? 2 : 1; }
-  [[nodiscard]] int threads() const { return threads_; }
-  [[nodiscard]] Diagnostics diagnostics() const;
+  [[nodiscard]] int dimension() const { return std::holds_alternative<Solver<3>>(solver_) ? 3 : 2; }
+  [[nodiscard]] const Clock& clock() const { return visit([](const auto& s) -> const Clock& { return s.clock(); }); }
+  [[nodiscard]] double time() const { return clock().time; }
+  [[nodiscard]] const Case& config() const {
+    return visit([](const auto& s) -> const Case& { return s.config(); });
+  }
+  [[nodiscard]] std::size_t particle_count() const {
+    return visit([](const auto& s) { return s.particles().size(); });
+  }
+  [[nodiscard]] double particle_mass() const { return visit([](const auto& s) { return s.particle_mass(); }); }
+  [[nodiscard]] double smoothing_length() const { return visit([](const auto& s) { return s.smoothing_length(); }); }
+  [[nodiscard]] const TaitEos& eos() const { return visit([](const auto& s) -> const TaitEos& { return s.eos(); }); }
+  [[nodiscard]] std::size_t removed_near_coincident() const {
+    return visit([](const auto& s) { return s.removed_near_coincident(); });
+  }
+  [[nodiscard]] int force_evaluations_per_step() const {
+    return visit([](const auto& s) { return s.force_evaluations_per_step(); });
+  }
+  [[nodiscard]] int threads() const { return visit([](const auto& s) { return s.threads(); }); }
+  [[nodiscard]] Diagnostics diagnostics() const { return visit([](const auto& s) { return s.diagnostics(); }); }
+  // The instability guard (Solver::check_health).
+  [[nodiscard]] Health check_health(std::size_t max_reported = 5) const {
+    return visit([&](const auto& s) { return s.check_health(max_reported); });
+  }
 
-  // The instability guard: every particle finite, within the tank's reach (its walls plus a margin
-  // of the tank size above an open tank), and 0.5 rho0 < rho < 2 rho0.
-  [[nodiscard]] Health check_health(std::size_t max_reported = 5) const;
-
-  // Returns to the state at the start of the last step (if it got far enough to change anything),
-  // for the instability guard.
-  void restore_saved_state();
-
-  using KernelVariant = std::variant<CubicSpline<2>, WendlandC2<2>>;
+  // The solver of a known dimension (throws std::bad_variant_access for the other).
+  template <int Dim>
+  [[nodiscard]] const Solver<Dim>& solver() const {
+    return std::get<Solver<Dim>>(solver_);
+  }
+  template <int Dim>
+  [[nodiscard]] const Particles<Dim>& particles() const {
+    return solver<Dim>().particles();
+  }
 
  private:
-  void init(const Case& c);
-  // Rebuilds the neighbour grid (reordering the particles by cell), applies the Shepard filter when
-  // due and any pending density repairs, and computes the rates.
-  RateSummary evaluate(bool shepard_due, bool mid_step);
-  double choose_dt(const RateSummary& r) const;
-
-  Case case_;
-  Particles<2> particles_;
-  std::vector<Polygon> solids_;
-  CellGrid<2> grid_;
-  KernelVariant kernel_{CubicSpline<2>(1.0)};
-  RateSettings<2> settings_{};
-  ParticleTerms terms_;
-  std::vector<double> scratch_;
-  Clock clock_;
-  double min_particle_distance_ = std::numeric_limits<double>::quiet_NaN();  // unknown before the first step
-  Clock saved_clock_;
-  bool has_saved_state_ = false;
-  bool predictor_corrector_ = true;
-  bool adami_walls_ = false;  // physics.wall_boundary = "adami"
-  int threads_ = 1;
-  std::size_t removed_near_coincident_ = 0;
+  std::variant<Solver<2>, Solver<3>> solver_;
 };
 
 }  // namespace sluice

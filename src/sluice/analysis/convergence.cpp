@@ -137,6 +137,9 @@ ConvergenceStudy run_convergence(const Case& base, const ConvergenceOptions& opt
   std::sort(spacings.begin(), spacings.end(), std::greater<>());
   if (spacings.size() < 3)
     throw AnalysisError(fmt::format("a convergence study needs at least 3 spacings; got {}", spacings.size()));
+  if (base.dimension != 2)
+    throw AnalysisError(fmt::format("case '{}' is {}D; the convergence study measures 2D waves", base.name,
+                                    base.dimension));
   if (base.gravity[0] != 0.0 || !(base.gravity[1] < 0.0))
     throw AnalysisError("a convergence study measures a wave under gravity straight down");
 
@@ -166,8 +169,8 @@ ConvergenceStudy run_convergence(const Case& base, const ConvergenceOptions& opt
                         "output.checkpoint_interval=0"});
     Probe far_wall;
     far_wall.name = "convergence_far_wall";
-    far_wall.type = "gauge";
-    far_wall.point = {c.tank_width, 0.0};
+    far_wall.type = ProbeType::gauge;
+    far_wall.point = {c.tank_width, 0.0, 0.0};
     far_wall.band = 2.0 * dx;
     c.probes.push_back(far_wall);
     RunOptions run;

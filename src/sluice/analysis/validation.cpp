@@ -65,7 +65,7 @@ double gravity_of(const Case& c) {
 
 // The single box of water the validation cases start from.
 const Region& water_column(const Case& c) {
-  if (c.water.size() != 1 || c.water[0].shape != "box")
+  if (c.water.size() != 1 || c.water[0].shape != Shape::box)
     throw AnalysisError(fmt::format("case '{}': a validation case starts from one box of water; it has {} region{}",
                                     c.name, c.water.size(), c.water.size() == 1 ? " (not a box)" : "s"));
   const Region& r = c.water[0];
@@ -106,8 +106,9 @@ std::string settings_of(const Case& c) {
   return fmt::format(
       "c0 = {:g} m/s, gamma = {:g}, mu = {:g} Pa s, artificial viscosity alpha = {:g}, density diffusion delta = {:g}, "
       "Shepard filter every {} steps, {} kernel, h = {:g} dx, {} integrator, CFL {:g}, {} walls",
-      c.sound_speed, c.gamma, c.viscosity, c.artificial_viscosity, c.density_diffusion, c.shepard_every, c.kernel,
-      c.h_over_dx, c.integrator, c.cfl, c.wall_boundary);
+      c.sound_speed, c.gamma, c.viscosity, c.artificial_viscosity, c.density_diffusion, c.shepard_every,
+      name_of(c.kernel, kernel_type_names), c.h_over_dx, name_of(c.integrator, integrator_names), c.cfl,
+      name_of(c.wall_boundary, wall_boundary_names));
 }
 
 std::string provenance(const Table& t) {

@@ -260,6 +260,8 @@ std::vector<std::filesystem::path> list_npz_frames(const std::filesystem::path& 
 }
 
 WaveAnalysis analyze_run(const std::filesystem::path& output_dir, const Case& c, const WaveOptions& options) {
+  if (c.dimension != 2)
+    throw AnalysisError(fmt::format("case '{}' is {}D; the wave analysis measures 2D runs", c.name, c.dimension));
   if (c.gravity[0] != 0.0 || !(c.gravity[1] < 0.0))
     throw AnalysisError(fmt::format("the wave analysis needs gravity straight down; the case has [{}, {}]", c.gravity[0],
                                     c.gravity[1]));

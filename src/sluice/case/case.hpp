@@ -1,29 +1,57 @@
 // A case: everything that defines a run, as plain data. Filled from a TOML file by the loader
 // (case/params.hpp); the solver reads it and knows nothing of files.
+//
+// Vectors have three components; a 2D case uses the first two (the third is 0). The up axis is the
+// last one: y in 2D, z in 3D.
 #pragma once
 
+#include <array>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "sluice/core/vec.hpp"
 
 namespace sluice {
 
-// A water region or a solid wall: a box (min, max) or a polygon (its points, in either order).
+using Vec3 = Vec<3>;
+
+// The choices a case makes, as types. The names are the case file's spellings, in enum order.
+enum class KernelType { cubic_spline, wendland_c2 };
+inline constexpr std::array<std::string_view, 2> kernel_type_names = {"cubic_spline", "wendland_c2"};
+
+enum class WallBoundary { dynamic, adami };
+inline constexpr std::array<std::string_view, 2> wall_boundary_names = {"dynamic", "adami"};
+
+enum class Integrator { predictor_corrector, euler };
+inline constexpr std::array<std::string_view, 2> integrator_names = {"predictor_corrector", "euler"};
+
+enum class Shape { box, polygon };
+inline constexpr std::array<std::string_view, 2> shape_names = {"box", "polygon"};
+
+enum class ProbeType { pressure, gauge, front };
+inline constexpr std::array<std::string_view, 3> probe_type_names = {"pressure", "gauge", "front"};
+
+template <class E, std::size_t N>
+constexpr std::string_view name_of(E value, const std::array<std::string_view, N>& names) {
+  return names[static_cast<std::size_t>(value)];
+}
+
+// A water region or a solid wall: a box (min, max) or, in 2D, a polygon (its points, in either order).
 struct Region {
-  std::string shape;         // "box" | "polygon"
-  Vec2 min{};
-  Vec2 max{};
+  Shape shape = Shape::box;
+  Vec3 min{};
+  Vec3 max{};
   std::vector<Vec2> points;  // polygon vertices, implicitly closed
 };
 
 // A probe sampled during the run (see io/probes.hpp).
 struct Probe {
   std::string name;
-  std::string type;    // "pressure" | "gauge" | "front"
-  Vec2 point{};        // pressure: where; gauge: x of the gauge (point[0]) ; front: origin of the search
-  Vec2 direction{};    // front: direction along which the furthest particle is found
-  double band = 0.0;   // gauge: half-width of the band in x (0 = one particle spacing)
+  ProbeType type = ProbeType::pressure;
+  Vec3 point{};        // pressure: where; gauge: where the vertical line stands; front: origin of the search
+  Vec3 direction{};    // front: direction along which the furthest particle is found
+  double band = 0.0;   // gauge: half-width of the band around the line (0 = one particle spacing)
   double interval = 0.0;  // sampling interval in simulated time (0 = every step)
 };
 
@@ -33,12 +61,15 @@ struct Case {
   std::string description;
 
   // [domain]
+  int dimension = 2;
   double dx = 0.0;          // particle spacing
   double h_over_dx = 0.0;   // smoothing length h = h_over_dx * dx
-  std::string kernel;       // "cubic_spline" | "wendland_c2"
+  KernelType kernel = KernelType::cubic_spline;
 
-  // [tank]: the inner walls are x = 0, x = width, y = 0 and (with a lid) y = height.
+  // [tank]: the inner walls are x = 0, x = width, the floor at up = 0 and (with a lid) up = height;
+  // in 3D also y = 0 and y = depth.
   double tank_width = 0.0;
+  double tank_depth = 0.0;  // 3D only
   double tank_height = 0.0;
   bool tank_lid = true;
 
@@ -49,7 +80,7 @@ struct Case {
   double viscosity = 0.0;   // dynamic viscosity mu
 
   // [physics]
-  Vec2 gravity{};
+  Vec3 gravity{};
   double artificial_viscosity = 0.0;  // Monaghan alpha
   double artificial_pressure = 0.0;   // Monaghan (2000) epsilon; 0 = off
   int artificial_pressure_exponent = 4;
@@ -57,11 +88,11 @@ struct Case {
   int shepard_every = 0;              // steps between Shepard density filters (0 = off)
   bool hydrostatic_start = true;
   double initial_pressure = 0.0;      // added to the water's initial pressure
-  std::string wall_boundary;          // "dynamic" | "adami"
+  WallBoundary wall_boundary = WallBoundary::dynamic;
 
   // [time]
   double end_time = 0.0;
-  std::string integrator;   // "euler" | "predictor_corrector"
+  Integrator integrator = Integrator::predictor_corrector;
   double cfl = 0.0;
   double fixed_dt = 0.0;    // 0 = adaptive
 
@@ -75,6 +106,25 @@ struct Case {
   std::vector<Probe> probes;
 
   [[nodiscard]] double smoothing_length() const { return h_over_dx * dx; }
+  // Inner size of the tank along each axis (the first `dimension` entries): width, (depth,) height.
+  [[nodiscard]] Vec3 tank_size() const {
+    return dimension == 3 ? Vec3{tank_width, tank_depth, tank_height} : Vec3{tank_width, tank_height, 0.0};
+  }
+  // Volume of one particle: dx^dimension.
+  [[nodiscard]] double particle_volume() const { return dimension == 3 ? dx * dx * dx : dx * dx; }
+  [[nodiscard]] bool writes(std::string_view format) const {
+    for (const auto& f : output_formats)
+      if (f == format) return true;
+    return false;
+  }
 };
+
+// The first Dim components of a case vector.
+template <int Dim>
+Vec<Dim> first(const Vec3& v) {
+  Vec<Dim> out{};
+  for (int d = 0; d < Dim; ++d) out[d] = v[d];
+  return out;
+}
 
 }  // namespace sluice

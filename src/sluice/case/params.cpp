@@ -38,6 +38,32 @@ Param<Owner> declare(std::string key, T Owner::*field, std::string unit, ParamVa
                       lower,          upper,  std::move(choices), std::move(description)};
 }
 
+template <class T>
+struct member_of;
+template <class O, class T>
+struct member_of<T O::*> {
+  using owner = O;
+  using type = T;
+};
+
+// An enum field, written in the case file as one of `names` (in enum order).
+template <auto Member, std::size_t N>
+auto declare_choice(std::string key, typename member_of<decltype(Member)>::type def,
+                    const std::array<std::string_view, N>& names, std::string description) {
+  using Owner = typename member_of<decltype(Member)>::owner;
+  using E = typename member_of<decltype(Member)>::type;
+  const ChoiceField<Owner> field{+[](const Owner& o) { return static_cast<int>(o.*Member); },
+                                 +[](Owner& o, int i) { o.*Member = static_cast<E>(i); }};
+  return Param<Owner>{std::move(key),
+                      field,
+                      "",
+                      std::string(names[static_cast<std::size_t>(def)]),
+                      unbounded_lower,
+                      unbounded_upper,
+                      std::vector<std::string>(names.begin(), names.end()),
+                      std::move(description)};
+}
+
 }  // namespace
 
 const std::vector<Section>& case_sections() {
@@ -58,27 +84,31 @@ const std::vector<Section>& case_sections() {
 
 const std::vector<Param<Case>>& case_params() {
   constexpr double inf = 1e300;
-  static const std::vector<Param<Case>> params = {
+  static const std::vector<Param<Case>> params = [] {
+    std::vector<Param<Case>> v = {
       declare("case.name", &Case::name, "", std::string("unnamed"), unbounded_lower, unbounded_upper,
               "Name of the case; the default output folder is out/<name>."),
       declare("case.description", &Case::description, "", std::string(""), unbounded_lower, unbounded_upper,
               "One line saying what the case is."),
+      declare("domain.dimension", &Case::dimension, "", 2, 2.0, 3.0,
+              "Space dimensions: 2 (x, y; y up) or 3 (x, y, z; z up). Vectors have this many components."),
       declare("domain.dx", &Case::dx, "m", 0.2, 1e-4, 100.0, "Particle spacing (dx); particle mass is rho0 * dx^2."),
       declare("domain.h_over_dx", &Case::h_over_dx, "", 1.3, 1.0, 3.0,
               "Smoothing length in particle spacings: h = h_over_dx * dx. The kernel support is 2h."),
-      declare("domain.kernel", &Case::kernel, "", std::string("cubic_spline"), unbounded_lower, unbounded_upper,
-              "Smoothing kernel.", {"cubic_spline", "wendland_c2"}),
-      declare("tank.width", &Case::tank_width, "m", 20.0, 1e-3, 1e5, "Inner width of the tank."),
-      declare("tank.height", &Case::tank_height, "m", 10.0, 1e-3, 1e5, "Inner height of the tank."),
+      declare_choice<&Case::kernel>("domain.kernel", KernelType::cubic_spline, kernel_type_names, "Smoothing kernel."),
+      declare("tank.width", &Case::tank_width, "m", 20.0, 1e-3, 1e5, "Inner width of the tank (along x)."),
+      declare("tank.depth", &Case::tank_depth, "m", 10.0, 1e-3, 1e5, "Inner depth of the tank (along y; 3D only)."),
+      declare("tank.height", &Case::tank_height, "m", 10.0, 1e-3, 1e5,
+              "Inner height of the tank (along the up axis: y in 2D, z in 3D)."),
       declare("tank.lid", &Case::tank_lid, "", true, unbounded_lower, unbounded_upper,
-              "Close the tank with a wall at y = height."),
+              "Close the tank with a wall at the top (up = height)."),
       declare("fluid.density", &Case::rest_density, "kg/m^3", 1000.0, 1.0, 1e5, "Rest density rho0."),
       declare("fluid.sound_speed", &Case::sound_speed, "m/s", 20.0, 1e-2, 1e5,
               "Numerical speed of sound c0; keep it >= 10x the largest flow speed for density changes near 1%."),
       declare("fluid.gamma", &Case::gamma, "", 7.0, 1.0, 10.0, "Tait exponent gamma: P = B((rho/rho0)^gamma - 1), B = rho0 c0^2/gamma."),
       declare("fluid.viscosity", &Case::viscosity, "Pa s", 0.001, 0.0, 1e6, "Dynamic viscosity mu (water: 0.001)."),
-      declare("physics.gravity", &Case::gravity, "m/s^2", Vec2{0.0, -9.81}, unbounded_lower, unbounded_upper,
-              "Gravitational acceleration [gx, gy]."),
+      declare("physics.gravity", &Case::gravity, "m/s^2", Vec3{0.0, -9.81, 0.0}, unbounded_lower, unbounded_upper,
+              "Gravitational acceleration [gx, gy] in 2D, [gx, gy, gz] in 3D."),
       declare("physics.artificial_viscosity", &Case::artificial_viscosity, "", 0.1, 0.0, 1.0,
               "Monaghan (1992) artificial viscosity alpha (0 = off)."),
       declare("physics.artificial_pressure", &Case::artificial_pressure, "", 0.0, 0.0, 1.0,
@@ -96,18 +126,16 @@ const std::vector<Param<Case>>& case_params() {
               "(see the tension case)."),
       declare("physics.hydrostatic_start", &Case::hydrostatic_start, "", true, unbounded_lower, unbounded_upper,
               "Start water (and the walls under it) at hydrostatic density, so water at rest stays at rest."),
-      declare("physics.wall_boundary", &Case::wall_boundary, "", std::string("dynamic"), unbounded_lower,
-              unbounded_upper,
+      declare_choice<&Case::wall_boundary>(
+              "physics.wall_boundary", WallBoundary::dynamic, wall_boundary_names,
               "Wall treatment: dynamic (wall particles' density evolves by the continuity equation like the fluid's) "
               "or adami (Adami, Hu & Adams 2012: wall pressure extrapolated from the fluid before each force "
               "evaluation, hydrostatic term included, negative values clamped to 0; free slip: no artificial "
-              "viscosity between fluid and wall).",
-              {"dynamic", "adami"}),
+              "viscosity between fluid and wall)."),
       declare("time.end", &Case::end_time, "s", 30.0, 0.0, inf, "Simulated end time."),
-      declare("time.integrator", &Case::integrator, "", std::string("predictor_corrector"), unbounded_lower,
-              unbounded_upper,
-              "Time integrator: forward Euler (one force evaluation per step) or predictor-corrector (two).",
-              {"predictor_corrector", "euler"}),
+      declare_choice<&Case::integrator>(
+              "time.integrator", Integrator::predictor_corrector, integrator_names,
+              "Time integrator: forward Euler (one force evaluation per step) or predictor-corrector (two)."),
       declare("time.cfl", &Case::cfl, "", 0.2, 0.1, 0.3,
               "Courant number C_CFL: dt = C_CFL * min(h/|v_ij|max, sqrt(h/|a|max), h/c_max). Forward Euler amplifies "
               "sound waves: use 0.1 with it."),
@@ -117,23 +145,29 @@ const std::vector<Param<Case>>& case_params() {
               unbounded_upper, "Frame formats: vtk (ParaView .vtu + .pvd) and npz (NumPy).", {"vtk", "npz"}),
       declare("output.checkpoint_interval", &Case::checkpoint_interval, "s", 0.0, 0.0, inf,
               "Simulated time between checkpoints; 0 = only at the end (and on Ctrl-C)."),
-  };
+    };
+    for (auto& p : v) {
+      if (p.key == "physics.gravity") p.default_3d = Vec3{0.0, 0.0, -9.81};
+      if (p.key == "tank.depth") p.only_3d = true;
+    }
+    return v;
+  }();
   return params;
 }
 
 const std::vector<Param<Region>>& region_params() {
   static const std::vector<Param<Region>> params = [] {
-    auto is_box = +[](const Region& r) { return r.shape == "box"; };
-    auto is_polygon = +[](const Region& r) { return r.shape == "polygon"; };
+    auto is_box = +[](const Region& r) { return r.shape == Shape::box; };
+    auto is_polygon = +[](const Region& r) { return r.shape == Shape::polygon; };
     std::vector<Param<Region>> v = {
-        declare("shape", &Region::shape, "", std::string("box"), unbounded_lower, unbounded_upper,
-                "Shape of the region: a box (min, max) or a polygon (points).", {"box", "polygon"}),
-        declare("min", &Region::min, "m", Vec2{0.0, 0.0}, unbounded_lower, unbounded_upper,
-                "Box: lower-left corner [x, y]."),
-        declare("max", &Region::max, "m", Vec2{0.0, 0.0}, unbounded_lower, unbounded_upper,
-                "Box: upper-right corner [x, y]."),
+        declare_choice<&Region::shape>("shape", Shape::box, shape_names,
+                                       "Shape of the region: a box (min, max) or, in 2D, a polygon (points)."),
+        declare("min", &Region::min, "m", Vec3{}, unbounded_lower, unbounded_upper,
+                "Box: lower corner [x, y] (2D) or [x, y, z] (3D)."),
+        declare("max", &Region::max, "m", Vec3{}, unbounded_lower, unbounded_upper,
+                "Box: upper corner [x, y] (2D) or [x, y, z] (3D)."),
         declare("points", &Region::points, "m", std::vector<Vec2>{}, unbounded_lower, unbounded_upper,
-                "Polygon: its corners [[x, y], ...] in order around it (at least 3; closed automatically)."),
+                "Polygon (2D): its corners [[x, y], ...] in order around it (at least 3; closed automatically)."),
     };
     v[1].applies = is_box;
     v[2].applies = is_box;
@@ -144,40 +178,63 @@ const std::vector<Param<Region>>& region_params() {
 }
 
 const std::vector<Param<Probe>>& probe_params() {
-  static const std::vector<Param<Probe>> params = {
+  static const std::vector<Param<Probe>> params = [] {
+    std::vector<Param<Probe>> v = {
       declare("name", &Probe::name, "", std::monostate{}, unbounded_lower, unbounded_upper,
               "Name of the probe; its series goes to probes/<name>.csv."),
-      declare("type", &Probe::type, "", std::monostate{}, unbounded_lower, unbounded_upper,
-              "pressure: kernel-weighted fluid pressure at `point`; gauge: water height at x = point[0]; "
-              "front: furthest fluid particle from `point` along `direction`.",
-              {"pressure", "gauge", "front"}),
-      declare("point", &Probe::point, "m", std::monostate{}, unbounded_lower, unbounded_upper, "Location [x, y]."),
-      declare("direction", &Probe::direction, "", Vec2{1.0, 0.0}, unbounded_lower, unbounded_upper,
+      declare_choice<&Probe::type>("type", ProbeType::pressure, probe_type_names,
+                                   "pressure: kernel-weighted fluid pressure at `point`; gauge: water height on the "
+                                   "vertical line through `point`; front: furthest fluid particle from `point` along "
+                                   "`direction`."),
+      declare("point", &Probe::point, "m", std::monostate{}, unbounded_lower, unbounded_upper,
+              "Location [x, y] (2D) or [x, y, z] (3D)."),
+      declare("direction", &Probe::direction, "", Vec3{1.0, 0.0, 0.0}, unbounded_lower, unbounded_upper,
               "Direction of a front probe."),
       declare("band", &Probe::band, "m", 0.0, 0.0, 1e300,
-              "Half-width in x of a gauge's band of particles; 0 = one particle spacing."),
+              "Half-width of a gauge's band of particles around its vertical line (in x, and in y in 3D); 0 = one "
+              "particle spacing."),
       declare("interval", &Probe::interval, "s", 0.0, 0.0, 1e300, "Sampling interval; 0 = every step."),
-  };
+    };
+    v[1].default_value = std::monostate{};  // a probe must say what it measures
+    return v;
+  }();
   return params;
 }
 
 namespace {
 
 template <class Owner>
-void set_defaults(Owner& o, const std::vector<Param<Owner>>& params) {
+int choice_index(const Param<Owner>& p, const std::string& name) {
+  const auto it = std::find(p.choices.begin(), p.choices.end(), name);
+  return it == p.choices.end() ? -1 : static_cast<int>(it - p.choices.begin());
+}
+
+template <class Owner>
+const ParamValue& default_in(const Param<Owner>& p, int dimension) {
+  return dimension == 3 && !std::holds_alternative<std::monostate>(p.default_3d) ? p.default_3d : p.default_value;
+}
+
+template <class Owner>
+void set_defaults(Owner& o, const std::vector<Param<Owner>>& params, int dimension) {
   for (const auto& p : params) {
+    const ParamValue& def = default_in(p, dimension);
     std::visit(
         [&](auto member) {
-          using T = std::remove_reference_t<decltype(o.*member)>;
-          if (const T* v = std::get_if<T>(&p.default_value)) o.*member = *v;
+          if constexpr (std::is_same_v<decltype(member), ChoiceField<Owner>>) {
+            if (const auto* name = std::get_if<std::string>(&def)) member.set(o, choice_index(p, *name));
+          } else {
+            using T = std::remove_reference_t<decltype(o.*member)>;
+            if (const T* v = std::get_if<T>(&def)) o.*member = *v;
+          }
         },
         p.field);
   }
 }
 
-Case default_case() {
+Case default_case(int dimension) {
   Case c;
-  set_defaults(c, case_params());
+  set_defaults(c, case_params(), dimension);
+  c.dimension = dimension;
   return c;
 }
 
@@ -211,16 +268,20 @@ std::string quote(const std::string& s) {
   return out + "\"";
 }
 
-std::string format_value(const ParamValue& v) {
+std::string format_value(const ParamValue& v, int dimension) {
   return std::visit(
-      [](const auto& x) -> std::string {
+      [dimension](const auto& x) -> std::string {
         using T = std::decay_t<decltype(x)>;
         if constexpr (std::is_same_v<T, std::monostate>) return "(required)";
         else if constexpr (std::is_same_v<T, double>) return format_number(x);
         else if constexpr (std::is_same_v<T, int>) return fmt::format("{}", x);
         else if constexpr (std::is_same_v<T, bool>) return x ? "true" : "false";
         else if constexpr (std::is_same_v<T, std::string>) return quote(x);
-        else if constexpr (std::is_same_v<T, Vec2>) return fmt::format("[{}, {}]", format_number(x[0]), format_number(x[1]));
+        else if constexpr (std::is_same_v<T, Vec3>) {
+          std::vector<std::string> components;
+          for (int d = 0; d < dimension; ++d) components.push_back(format_number(x[d]));
+          return fmt::format("[{}]", fmt::join(components, ", "));
+        }
         else if constexpr (std::is_same_v<T, std::vector<Vec2>>) {
           std::vector<std::string> pairs;
           for (const Vec2& q : x) pairs.push_back(fmt::format("[{}, {}]", format_number(q[0]), format_number(q[1])));
@@ -236,15 +297,25 @@ std::string format_value(const ParamValue& v) {
 
 template <class Owner>
 ParamValue current_value(const Owner& o, const Param<Owner>& p) {
-  return std::visit([&](auto member) -> ParamValue { return o.*member; }, p.field);
+  return std::visit(
+      [&](auto member) -> ParamValue {
+        if constexpr (std::is_same_v<decltype(member), ChoiceField<Owner>>)
+          return p.choices[static_cast<std::size_t>(member.get(o))];
+        else
+          return o.*member;
+      },
+      p.field);
 }
 
 template <class Owner>
-std::string expectation(const Param<Owner>& p) {
+std::string expectation(const Param<Owner>& p, int dimension) {
   const bool ranged = p.lower <= p.upper;
   const std::string unit = p.unit.empty() ? "" : fmt::format(" ({})", p.unit);
   return std::visit(
       [&](auto member) -> std::string {
+        if constexpr (std::is_same_v<decltype(member), ChoiceField<Owner>>) {
+          return fmt::format("one of \"{}\"", fmt::join(p.choices, "\", \""));
+        } else {
         using T = std::remove_reference_t<decltype(std::declval<Owner&>().*member)>;
         if constexpr (std::is_same_v<T, double>) {
           if (!ranged) return "a number" + unit;
@@ -259,12 +330,13 @@ std::string expectation(const Param<Owner>& p) {
         } else if constexpr (std::is_same_v<T, std::string>) {
           if (p.choices.empty()) return "a string in quotes";
           return fmt::format("one of \"{}\"", fmt::join(p.choices, "\", \""));
-        } else if constexpr (std::is_same_v<T, Vec2>) {
-          return "an array of two numbers [x, y]" + unit;
+        } else if constexpr (std::is_same_v<T, Vec3>) {
+          return (dimension == 3 ? "an array of three numbers [x, y, z]" : "an array of two numbers [x, y]") + unit;
         } else if constexpr (std::is_same_v<T, std::vector<Vec2>>) {
           return "an array of points [[x, y], ...]" + unit;
         } else {
           return fmt::format("an array of strings, each one of \"{}\"", fmt::join(p.choices, "\", \""));
+        }
         }
       },
       p.field);
@@ -296,8 +368,13 @@ std::string where(const std::string& source, const toml::node& n) {
 }
 
 template <class Owner>
-void assign(Owner& o, const Param<Owner>& p, const toml::node& n, const std::string& at, const std::string& key) {
-  const std::string expected = expectation(p);
+void assign(Owner& o, const Param<Owner>& p, const toml::node& n, const std::string& at, const std::string& key,
+            int dimension) {
+  const std::string expected = expectation(p, dimension);
+  if (p.only_3d && dimension != 3)
+    throw CaseError(fmt::format("{}: {} = {}: a key of 3D cases, and this case is 2D (domain.dimension = {}); leave "
+                                "it out, or set domain.dimension = 3",
+                                at, key, describe_node(n), dimension));
   auto check_range = [&](double v) {
     if (!std::isfinite(v)) fail_value(at, key, n, "not a finite number", expected);
     if (p.lower <= p.upper && (v < p.lower || v > p.upper)) fail_value(at, key, n, "out of range", expected);
@@ -307,8 +384,21 @@ void assign(Owner& o, const Param<Owner>& p, const toml::node& n, const std::str
     if (x.is_integer()) return static_cast<double>(x.as_integer()->get());
     return std::nullopt;
   };
+  auto choose = [&](const std::vector<std::string>& choices) {
+    if (!n.is_string()) fail_value(at, key, n, "wrong type", expected);
+    const std::string v = n.as_string()->get();
+    if (!choices.empty() && std::find(choices.begin(), choices.end(), v) == choices.end()) {
+      const auto near = closest_match(v, choices);
+      fail_value(at, key, n, near ? fmt::format("unknown value (did you mean \"{}\"?)", *near) : "unknown value",
+                 expected);
+    }
+    return v;
+  };
   std::visit(
       [&](auto member) {
+        if constexpr (std::is_same_v<decltype(member), ChoiceField<Owner>>) {
+          member.set(o, choice_index(p, choose(p.choices)));
+        } else {
         using T = std::remove_reference_t<decltype(o.*member)>;
         if constexpr (std::is_same_v<T, double>) {
           auto v = as_number(n);
@@ -325,19 +415,17 @@ void assign(Owner& o, const Param<Owner>& p, const toml::node& n, const std::str
           if (!n.is_boolean()) fail_value(at, key, n, "wrong type", expected);
           o.*member = n.as_boolean()->get();
         } else if constexpr (std::is_same_v<T, std::string>) {
-          if (!n.is_string()) fail_value(at, key, n, "wrong type", expected);
-          std::string v = n.as_string()->get();
-          if (!p.choices.empty() && std::find(p.choices.begin(), p.choices.end(), v) == p.choices.end()) {
-            const auto near = closest_match(v, p.choices);
-            fail_value(at, key, n, near ? fmt::format("unknown value (did you mean \"{}\"?)", *near) : "unknown value",
-                       expected);
-          }
-          o.*member = std::move(v);
-        } else if constexpr (std::is_same_v<T, Vec2>) {
+          o.*member = choose(p.choices);
+        } else if constexpr (std::is_same_v<T, Vec3>) {
           const toml::array* a = n.as_array();
-          if (a == nullptr || a->size() != 2) fail_value(at, key, n, "wrong type", expected);
-          Vec2 v{};
-          for (int d = 0; d < 2; ++d) {
+          if (a == nullptr) fail_value(at, key, n, "wrong type", expected);
+          if (a->size() != static_cast<std::size_t>(dimension))
+            fail_value(at, key, n,
+                       fmt::format("wrong type ({} component{} in a {}D case, domain.dimension = {})", a->size(),
+                                   a->size() == 1 ? "" : "s", dimension, dimension),
+                       expected);
+          Vec3 v{};
+          for (int d = 0; d < dimension; ++d) {
             auto x = as_number(*a->get(static_cast<std::size_t>(d)));
             if (!x || !std::isfinite(*x)) fail_value(at, key, n, "wrong type", expected);
             v[d] = *x;
@@ -374,6 +462,7 @@ void assign(Owner& o, const Param<Owner>& p, const toml::node& n, const std::str
           }
           o.*member = std::move(v);
         }
+        }
       },
       p.field);
 }
@@ -403,14 +492,14 @@ std::vector<std::string> all_keys() {
   throw CaseError(fmt::format("{}: unknown key '{}'; see `sluice init` for every key", at, key));
 }
 
-std::string describe_shape(const Region& r) { return r.shape; }
-std::string describe_shape(const Probe& p) { return p.type + " probe"; }
+std::string describe_shape(const Region& r) { return std::string(name_of(r.shape, shape_names)); }
+std::string describe_shape(const Probe& p) { return std::string(name_of(p.type, probe_type_names)) + " probe"; }
 
 template <class Owner>
 Owner parse_item(const toml::table& t, const std::vector<Param<Owner>>& params, const std::string& section,
-                 std::size_t index, const std::string& source) {
+                 std::size_t index, const std::string& source, int dimension) {
   Owner item{};
-  set_defaults(item, params);
+  set_defaults(item, params, dimension);
   std::set<std::string> given;
   for (const auto& [k, node] : t) {
     const std::string key(k.str());
@@ -424,7 +513,7 @@ Owner parse_item(const toml::table& t, const std::vector<Param<Owner>>& params, 
                                   near ? fmt::format("; did you mean '{}'?", *near)
                                        : fmt::format("; expected one of: {}", fmt::join(candidates, ", "))));
     }
-    assign(item, *p, node, where(source, node), full);
+    assign(item, *p, node, where(source, node), full, dimension);
     given.insert(key);
   }
   // Keys that only some items use (a box's min and max, a polygon's points) are required by those
@@ -433,7 +522,7 @@ Owner parse_item(const toml::table& t, const std::vector<Param<Owner>>& params, 
     const bool required = std::holds_alternative<std::monostate>(p.default_value) || (p.applies && p.applies(item));
     if (required && !given.contains(p.key))
       throw CaseError(fmt::format("{}: [[{}]] number {} has no '{}' ({}); expected {}", where(source, t), section,
-                                  index + 1, p.key, p.description, expectation(p)));
+                                  index + 1, p.key, p.description, expectation(p, dimension)));
     if (p.applies && !p.applies(item) && given.contains(p.key))
       throw CaseError(fmt::format("{}: [[{}]] number {} gives '{}', which a {} does not use ({})", where(source, t),
                                   section, index + 1, p.key, describe_shape(item), p.description));
@@ -451,7 +540,14 @@ Case parse_case(std::string_view toml_text, const std::string& source) {
     const auto& b = e.source().begin;
     throw CaseError(fmt::format("{}:{}:{}: not valid TOML: {}", source, b.line, b.column, e.description()));
   }
-  Case c = default_case();
+  // The dimension first: the defaults (gravity) and every vector's length follow from it.
+  int dimension = 2;
+  if (const toml::node* d = root.at_path("domain.dimension").node()) {
+    Case probe;
+    assign(probe, *find_param(case_params(), "domain.dimension"), *d, where(source, *d), "domain.dimension", 2);
+    dimension = probe.dimension;
+  }
+  Case c = default_case(dimension);
   std::vector<std::string> section_names;
   for (const auto& s : case_sections()) section_names.push_back(s.name);
 
@@ -480,9 +576,9 @@ Case parse_case(std::string_view toml_text, const std::string& source) {
       std::size_t index = 0;
       for (const auto& item : *items) {
         const toml::table& t = *item.as_table();
-        if (name == "water") c.water.push_back(parse_item(t, region_params(), name, index, source));
-        else if (name == "wall") c.walls.push_back(parse_item(t, region_params(), name, index, source));
-        else c.probes.push_back(parse_item(t, probe_params(), name, index, source));
+        if (name == "water") c.water.push_back(parse_item(t, region_params(), name, index, source, dimension));
+        else if (name == "wall") c.walls.push_back(parse_item(t, region_params(), name, index, source, dimension));
+        else c.probes.push_back(parse_item(t, probe_params(), name, index, source, dimension));
         ++index;
       }
       continue;
@@ -494,7 +590,7 @@ Case parse_case(std::string_view toml_text, const std::string& source) {
       const std::string key = name + "." + std::string(sub.str());
       const auto* p = find_param(case_params(), key);
       if (p == nullptr) fail_unknown_key(where(source, value), key, all_keys());
-      assign(c, *p, value, where(source, value), key);
+      assign(c, *p, value, where(source, value), key, dimension);
     }
   }
   validate_case(c, source);
@@ -522,9 +618,9 @@ namespace {
 // time.integrator=euler and case.name=2024 mean the strings, and a string list may be written bare
 // (output.formats=npz,vtk or [npz, vtk]) since shells strip the quotes from ["npz", "vtk"].
 template <class Owner>
-toml::table override_value(const Param<Owner>& p, const std::string& text, const std::string& at) {
+toml::table override_value(const Param<Owner>& p, const std::string& text, const std::string& at, int dimension) {
   if (text.empty())
-    throw CaseError(fmt::format("{}: no value after '='; expected {}", at, expectation(p)));
+    throw CaseError(fmt::format("{}: no value after '='; expected {}", at, expectation(p, dimension)));
   std::optional<toml::table> parsed;
   try {
     const std::string document = "value = " + text;
@@ -533,7 +629,7 @@ toml::table override_value(const Param<Owner>& p, const std::string& text, const
   } catch (const toml::parse_error&) {
   }
   const bool quoted = text.front() == '"' || text.front() == '\'';
-  if (std::holds_alternative<std::string Owner::*>(p.field)) {
+  if (std::holds_alternative<std::string Owner::*>(p.field) || std::holds_alternative<ChoiceField<Owner>>(p.field)) {
     if (parsed && parsed->get("value")->is_string()) return *parsed;
     if (!quoted) return toml::table{{"value", text}};
   } else if (std::holds_alternative<std::vector<std::string> Owner::*>(p.field)) {
@@ -594,8 +690,8 @@ void apply_one_override(Case& c, std::string_view assignment) {
                                     near ? fmt::format("did you mean '{}[{}].{}'?", section, digits, *near)
                                          : fmt::format("expected one of: {}", fmt::join(candidates, ", "))));
       }
-      const toml::table holder = override_value(*p, text, at);
-      assign(items[index], *p, *holder.get("value"), at, key);
+      const toml::table holder = override_value(*p, text, at, c.dimension);
+      assign(items[index], *p, *holder.get("value"), at, key, c.dimension);
     };
     if (section == "water") apply(c.water, region_params());
     else if (section == "wall") apply(c.walls, region_params());
@@ -603,8 +699,13 @@ void apply_one_override(Case& c, std::string_view assignment) {
   } else {
     const auto* p = find_param(case_params(), key);
     if (p == nullptr) fail_unknown_key(at, key, all_keys());
-    const toml::table holder = override_value(*p, text, at);
-    assign(c, *p, *holder.get("value"), at, key);
+    // Every vector of the case and its defaults follow the dimension: it is the case file's to say.
+    if (key == "domain.dimension")
+      throw CaseError(fmt::format("{}: the dimension cannot be changed with --set (the case's vectors and defaults "
+                                  "follow it); write domain.dimension in the case file",
+                                  at));
+    const toml::table holder = override_value(*p, text, at, c.dimension);
+    assign(c, *p, *holder.get("value"), at, key, c.dimension);
   }
 }
 
@@ -624,6 +725,7 @@ void apply_overrides(Case& c, const std::vector<std::string>& assignments) {
 void validate_case(const Case& c, const std::string& source) {
   auto fail = [&](const std::string& what) { throw CaseError(fmt::format("{}: {}", source, what)); };
   const double h = c.smoothing_length();
+  const int dim = c.dimension;
   // The name is the default output folder out/<name> and the .pvd file's name: it must be one plain
   // path component.
   const bool control_char = std::any_of(c.name.begin(), c.name.end(), [](char ch) {
@@ -634,37 +736,50 @@ void validate_case(const Case& c, const std::string& source) {
     fail(fmt::format("case.name = {}: not a usable name; expected a non-empty name without slashes or control "
                      "characters, other than \".\" and \"..\" (it names the output folder out/<name>)",
                      quote(c.name)));
-  if (c.tank_width < 2.0 * c.dx || c.tank_height < 2.0 * c.dx)
-    fail(fmt::format("the tank ({} m x {} m) is smaller than two particle spacings (dx = {} m)", c.tank_width,
-                     c.tank_height, c.dx));
+  const Vec3 tank = c.tank_size();
+  std::vector<std::string> sizes;
+  for (int d = 0; d < dim; ++d) sizes.push_back(fmt::format("{} m", tank[d]));
+  for (int d = 0; d < dim; ++d)
+    if (tank[d] < 2.0 * c.dx)
+      fail(fmt::format("the tank ({}) is smaller than two particle spacings (dx = {} m)", fmt::join(sizes, " x "),
+                       c.dx));
   if (c.water.empty()) fail("no [[water]] region; a case needs at least one");
   // A region's bounding box, after checking its shape.
-  auto check_region = [&](const Region& r, const std::string& what, std::size_t i) -> std::pair<Vec2, Vec2> {
-    if (r.shape == "box") {
-      if (!(r.min[0] < r.max[0] && r.min[1] < r.max[1]))
-        fail(fmt::format("[[{}]] number {}: min {} must be below and left of max {} (a box needs both)", what, i + 1,
-                         format_value(r.min), format_value(r.max)));
+  auto check_region = [&](const Region& r, const std::string& what, std::size_t i) -> std::pair<Vec3, Vec3> {
+    if (r.shape == Shape::box) {
+      for (int d = 0; d < dim; ++d)
+        if (!(r.min[d] < r.max[d]))
+          fail(fmt::format("[[{}]] number {}: min {} must be below max {} in every component (a box needs both)",
+                           what, i + 1, format_value(r.min, dim), format_value(r.max, dim)));
       return {r.min, r.max};
     }
+    if (dim != 2)
+      fail(fmt::format("[[{}]] number {}: a polygon is a 2D shape and this case is {}D; expected shape = \"box\"",
+                       what, i + 1, dim));
     if (r.points.size() < 3)
       fail(fmt::format("[[{}]] number {}: a polygon needs at least 3 points, got {}", what, i + 1, r.points.size()));
-    Vec2 lo = r.points[0], hi = r.points[0];
+    Vec3 lo{r.points[0][0], r.points[0][1], 0.0}, hi = lo;
     double twice_area = 0.0;
     for (std::size_t k = 0, j = r.points.size() - 1; k < r.points.size(); j = k++) {
-      lo = {std::min(lo[0], r.points[k][0]), std::min(lo[1], r.points[k][1])};
-      hi = {std::max(hi[0], r.points[k][0]), std::max(hi[1], r.points[k][1])};
+      for (int d = 0; d < 2; ++d) {
+        lo[d] = std::min(lo[d], r.points[k][d]);
+        hi[d] = std::max(hi[d], r.points[k][d]);
+      }
       twice_area += r.points[j][0] * r.points[k][1] - r.points[k][0] * r.points[j][1];
     }
     if (std::abs(twice_area) < 1e-12 * std::max(1.0, (hi[0] - lo[0]) * (hi[1] - lo[1])))
       fail(fmt::format("[[{}]] number {}: the polygon's points enclose no area", what, i + 1));
     return {lo, hi};
   };
+  std::vector<std::string> extent;
+  for (int d = 0; d < dim; ++d) extent.push_back(fmt::format("[0, {}]", tank[d]));
   for (std::size_t i = 0; i < c.water.size(); ++i) {
     const auto [lo, hi] = check_region(c.water[i], "water", i);
-    const double tol = 1e-9 * std::max(c.tank_width, c.tank_height);
-    if (lo[0] < -tol || lo[1] < -tol || hi[0] > c.tank_width + tol || hi[1] > c.tank_height + tol)
-      fail(fmt::format("[[water]] number {} (from {} to {}) reaches outside the tank [0, {}] x [0, {}]", i + 1,
-                       format_value(lo), format_value(hi), c.tank_width, c.tank_height));
+    const double tol = 1e-9 * *std::max_element(tank.begin(), tank.begin() + dim);
+    for (int d = 0; d < dim; ++d)
+      if (lo[d] < -tol || hi[d] > tank[d] + tol)
+        fail(fmt::format("[[water]] number {} (from {} to {}) reaches outside the tank {}", i + 1,
+                         format_value(lo, dim), format_value(hi, dim), fmt::join(extent, " x ")));
   }
   for (std::size_t i = 0; i < c.walls.size(); ++i) check_region(c.walls[i], "wall", i);
   std::set<std::string> names;
@@ -673,14 +788,16 @@ void validate_case(const Case& c, const std::string& source) {
     if (p.name.empty() || p.name.find_first_of("/\\ ") != std::string::npos)
       fail(fmt::format("[[probe]] number {}: name \"{}\" must be non-empty, without spaces or slashes", i + 1, p.name));
     if (!names.insert(p.name).second) fail(fmt::format("[[probe]] name \"{}\" is used twice", p.name));
-    if (p.type == "front" && norm(p.direction) == 0.0)
-      fail(fmt::format("[[probe]] \"{}\": direction must not be [0, 0]", p.name));
+    if (p.type == ProbeType::front && norm(p.direction) == 0.0)
+      fail(fmt::format("[[probe]] \"{}\": direction must not be {}", p.name, format_value(Vec3{}, dim)));
   }
   if (c.output_formats.empty()) fail("output.formats is empty; expected at least one of \"vtk\", \"npz\"");
-  const double max_cells = 5e8;
-  if ((c.tank_width + 4 * h) * (c.tank_height + 4 * h) / (c.dx * c.dx) > max_cells)
+  const double max_points = 5e8;
+  double lattice_points = 1.0;
+  for (int d = 0; d < dim; ++d) lattice_points *= (tank[d] + 4 * h) / c.dx;
+  if (lattice_points > max_points)
     fail(fmt::format("domain.dx = {} m gives more than {:.0e} lattice points in the tank; expected a larger dx",
-                     c.dx, max_cells));
+                     c.dx, max_points));
 }
 
 std::string case_template(const Case& c) {
@@ -694,10 +811,10 @@ std::string case_template(const Case& c) {
     comment_lines(p.description, indent);
     std::vector<std::string> facts;
     if (!p.unit.empty()) facts.push_back("unit: " + p.unit);
-    facts.push_back(std::holds_alternative<std::monostate>(p.default_value)
-                        ? std::string("required")
-                        : "default: " + format_value(p.default_value));
-    facts.push_back("allowed: " + expectation(p));
+    const ParamValue& def = default_in(p, c.dimension);
+    facts.push_back(std::holds_alternative<std::monostate>(def) ? std::string("required")
+                                                                : "default: " + format_value(def, c.dimension));
+    facts.push_back("allowed: " + expectation(p, c.dimension));
     comment_lines(fmt::format("{}", fmt::join(facts, " | ")), indent);
   };
   for (const auto& s : case_sections()) {
@@ -706,9 +823,10 @@ std::string case_template(const Case& c) {
     if (!s.is_array) {
       out += fmt::format("[{}]\n", s.name);
       for (const auto& p : case_params()) {
-        if (p.key.rfind(s.name + ".", 0) != 0) continue;
+        if (p.key.rfind(s.name + ".", 0) != 0 || (p.only_3d && c.dimension != 3)) continue;
         describe(p, "");
-        out += fmt::format("{} = {}\n", p.key.substr(s.name.size() + 1), format_value(current_value(c, p)));
+        out += fmt::format("{} = {}\n", p.key.substr(s.name.size() + 1),
+                           format_value(current_value(c, p), c.dimension));
       }
       continue;
     }
@@ -723,7 +841,7 @@ std::string case_template(const Case& c) {
         out += fmt::format("[[{}]]\n", s.name);
         for (const auto& p : params)
           if (p.applies == nullptr || p.applies(item))
-            out += fmt::format("{} = {}\n", p.key, format_value(current_value(item, p)));
+            out += fmt::format("{} = {}\n", p.key, format_value(current_value(item, p), c.dimension));
       }
     };
     if (s.name == "water") write_items(c.water, region_params());

@@ -1,118 +1,160 @@
 // Particle storage: one array per field (structure of arrays), free of global state.
+//
+// Every field is declared once, in Particles::fields(), with what happens to it; storage growth,
+// reordering and checkpoints follow from that list (io/checkpoint.cpp reads and writes it by name).
 #pragma once
 
-#include "sluice/core/parallel.hpp"
 #include <array>
 #include <cstdint>
-#include <numeric>
+#include <string_view>
+#include <tuple>
+#include <type_traits>
 #include <vector>
+
+#include "sluice/core/parallel.hpp"
 
 namespace sluice {
 
 enum class Kind : std::uint8_t { fluid = 0, wall = 1 };
 
+// What happens to a field.
+namespace field_role {
+inline constexpr unsigned state = 1;       // the particle's state: grows with add(), moves with every reordering
+inline constexpr unsigned step_start = 2;  // moves with a reordering during a multi-stage step only
+inline constexpr unsigned checkpoint = 4;  // saved in checkpoints
+inline constexpr unsigned halo = 8;        // read by the pair loop: what a neighbouring process must send
+}  // namespace field_role
+
+struct FieldSpec {
+  std::string_view name;
+  std::string_view unit;  // "" when dimensionless
+  unsigned roles;
+  [[nodiscard]] bool has(unsigned role) const { return (roles & role) != 0; }
+};
+
 template <int Dim>
 struct Particles {
   static constexpr int dim = Dim;
+  template <class T>
+  using Vector = std::array<std::vector<T>, Dim>;  // one array per component
 
   // State.
-  std::array<std::vector<double>, Dim> position;
-  std::array<std::vector<double>, Dim> velocity;
+  Vector<double> position;
+  Vector<double> velocity;
   std::vector<double> density;
   std::vector<Kind> kind;
   std::vector<std::uint32_t> id;  // stable identity; the arrays are reordered by cell
+  // Set when a particle was put back from inside a wall; its density is re-interpolated from its
+  // neighbours at the next force evaluation.
+  std::vector<std::uint8_t> needs_density_repair;
 
-  // Rates from the last force evaluation.
-  std::array<std::vector<double>, Dim> acceleration;
+  // Rates from the last force evaluation (recomputed after every reordering).
+  Vector<double> acceleration;
   std::vector<double> density_rate;
 
   // State at the start of a step (multi-stage integrators).
-  std::array<std::vector<double>, Dim> position_start;
-  std::array<std::vector<double>, Dim> velocity_start;
+  Vector<double> position_start;
+  Vector<double> velocity_start;
   std::vector<double> density_start;
 
-  // Set when a particle was put back from inside a wall; its density is re-interpolated
-  // from its neighbours at the next force evaluation.
-  std::vector<std::uint8_t> needs_density_repair;
+  // The field registry: calls f(info, field) for every field, in a fixed order; `field` is a
+  // std::vector<T> or a Vector<T>. Works on const and non-const particles.
+  template <class Self, class F>
+  static void fields(Self& p, F&& f) {
+    using namespace field_role;
+    f(FieldSpec{"position", "m", state | checkpoint | halo}, p.position);
+    f(FieldSpec{"velocity", "m/s", state | checkpoint | halo}, p.velocity);
+    f(FieldSpec{"density", "kg/m^3", state | checkpoint | halo}, p.density);
+    f(FieldSpec{"kind", "", state | checkpoint | halo}, p.kind);
+    f(FieldSpec{"id", "", state | checkpoint | halo}, p.id);
+    f(FieldSpec{"needs_density_repair", "", state | checkpoint}, p.needs_density_repair);
+    f(FieldSpec{"acceleration", "m/s^2", 0}, p.acceleration);
+    f(FieldSpec{"density_rate", "kg/m^3/s", 0}, p.density_rate);
+    f(FieldSpec{"position_start", "m", step_start}, p.position_start);
+    f(FieldSpec{"velocity_start", "m/s", step_start}, p.velocity_start);
+    f(FieldSpec{"density_start", "kg/m^3", step_start}, p.density_start);
+  }
+
+  // Calls g(component) for each component array of a field (one for a scalar field).
+  template <class Field, class G>
+  static void components(Field& field, G&& g) {
+    using Element = typename std::remove_cvref_t<Field>::value_type;
+    if constexpr (std::is_arithmetic_v<Element> || std::is_enum_v<Element>) g(field);
+    else
+      for (auto& c : field) g(c);
+  }
 
   [[nodiscard]] std::size_t size() const { return density.size(); }
+  [[nodiscard]] bool is_fluid(std::size_t i) const { return kind[i] == Kind::fluid; }
 
   void resize(std::size_t n) {
-    for (auto* fields : {&position, &velocity, &acceleration, &position_start, &velocity_start})
-      for (auto& f : *fields) f.resize(n, 0.0);
-    for (auto* f : {&density, &density_rate, &density_start}) f->resize(n, 0.0);
-    kind.resize(n, Kind::fluid);
-    id.resize(n, 0);
-    needs_density_repair.resize(n, 0);
+    fields(*this, [&](const FieldSpec&, auto& field) { components(field, [&](auto& c) { c.resize(n); }); });
   }
 
   // Appends a particle at rest while a set is being built. Only the state fields grow (keeping the
   // set-up's peak memory low); call resize(size()) before rates or step-start fields are used.
   void add(const std::array<double, Dim>& x, Kind k, double rho) {
     const std::size_t n = size();
-    for (int d = 0; d < Dim; ++d) {
-      position[d].push_back(x[d]);
-      velocity[d].push_back(0.0);
-    }
-    density.push_back(rho);
-    kind.push_back(k);
-    id.push_back(static_cast<std::uint32_t>(n));
-    needs_density_repair.push_back(0);
+    fields(*this, [&](const FieldSpec& info, auto& field) {
+      if (info.has(field_role::state)) components(field, [](auto& c) { c.emplace_back(); });
+    });
+    for (int d = 0; d < Dim; ++d) position[d][n] = x[d];
+    density[n] = rho;
+    kind[n] = k;
+    id[n] = static_cast<std::uint32_t>(n);
   }
 
-  [[nodiscard]] bool is_fluid(std::size_t i) const { return kind[i] == Kind::fluid; }
+  // Keeps the state of the particles `keep` (ascending indices), renumbered 0..k-1 in that order;
+  // the other fields are sized to match (and zero).
+  void keep_only(const std::vector<std::uint32_t>& keep) {
+    fields(*this, [&](const FieldSpec& info, auto& field) {
+      components(field, [&](auto& c) {
+        std::remove_reference_t<decltype(c)> kept(keep.size());
+        if (info.has(field_role::state))
+          for (std::size_t k = 0; k < keep.size(); ++k) kept[k] = c[keep[k]];
+        c.swap(kept);
+      });
+    });
+    for (std::size_t k = 0; k < keep.size(); ++k) id[k] = static_cast<std::uint32_t>(k);
+  }
 
   // Reorders the fields so that new index k holds what old index order[k] held. Rates are not
   // reordered (they are recomputed after every reordering); the step-start state only when asked
-  // (during a multi-stage step). `scratch` avoids an allocation per call.
+  // (during a multi-stage step). `scratch` holds the double fields in turn (no allocation per call).
   void permute(const std::vector<std::uint32_t>& order, std::vector<double>& scratch, bool with_step_start,
                int threads) {
     const long n = static_cast<long>(size());
     scratch.resize(static_cast<std::size_t>(n));
-    kind_scratch_.resize(static_cast<std::size_t>(n));
-    id_scratch_.resize(static_cast<std::size_t>(n));
-    repair_scratch_.resize(static_cast<std::size_t>(n));
-    std::array<std::vector<double>*, 4 * Dim + 2> fields{};
-    std::size_t count = 0;
-    for (auto& f : position) fields[count++] = &f;
-    for (auto& f : velocity) fields[count++] = &f;
-    fields[count++] = &density;
-    if (with_step_start) {
-      for (auto& f : position_start) fields[count++] = &f;
-      for (auto& f : velocity_start) fields[count++] = &f;
-      fields[count++] = &density_start;
-    }
+    std::get<std::vector<Kind>>(scratch_).resize(static_cast<std::size_t>(n));
+    std::get<std::vector<std::uint32_t>>(scratch_).resize(static_cast<std::size_t>(n));
+    std::get<std::vector<std::uint8_t>>(scratch_).resize(static_cast<std::size_t>(n));
     const std::uint32_t* __restrict from = order.data();
     // One parallel region for all the fields (a region per field cost more than the copies on two
-    // threads). The double fields go through `scratch` one after another; each thread copies the same
-    // static share of every field, and one thread swaps between fields.
+    // threads): every thread walks the same field list, copies its static share of each field into
+    // the scratch array of the field's type, and one thread swaps it in.
 #pragma omp parallel num_threads(threads) if (n >= light_loop_parallel_threshold)
-    {
-#pragma omp for schedule(static) nowait
-      for (long k = 0; k < n; ++k) {
-        kind_scratch_[k] = kind[from[k]];
-        id_scratch_[k] = id[from[k]];
-        repair_scratch_[k] = needs_density_repair[from[k]];
-      }
-      for (std::size_t f = 0; f < count; ++f) {
-        std::vector<double>* const field = fields[f];
-        const double* __restrict in = field->data();
-        double* __restrict out = scratch.data();
+    fields(*this, [&](const FieldSpec& info, auto& field) {
+      if (!info.has(field_role::state) && !(with_step_start && info.has(field_role::step_start))) return;
+      components(field, [&](auto& c) {
+        using T = typename std::remove_reference_t<decltype(c)>::value_type;
+        std::vector<T>& out_array = scratch_for<T>(scratch);
+        const T* __restrict in = c.data();
+        T* __restrict out = out_array.data();
 #pragma omp for schedule(static)
         for (long k = 0; k < n; ++k) out[k] = in[from[k]];
 #pragma omp single
-        field->swap(scratch);
-      }
-    }
-    kind.swap(kind_scratch_);
-    id.swap(id_scratch_);
-    needs_density_repair.swap(repair_scratch_);
+        c.swap(out_array);
+      });
+    });
   }
 
  private:
-  std::vector<Kind> kind_scratch_;
-  std::vector<std::uint32_t> id_scratch_;
-  std::vector<std::uint8_t> repair_scratch_;
+  template <class T>
+  std::vector<T>& scratch_for(std::vector<double>& doubles) {
+    if constexpr (std::is_same_v<T, double>) return doubles;
+    else return std::get<std::vector<T>>(scratch_);
+  }
+  std::tuple<std::vector<Kind>, std::vector<std::uint32_t>, std::vector<std::uint8_t>> scratch_;
 };
 
 }  // namespace sluice

@@ -4,14 +4,14 @@
 #pragma once
 
 #include <cstddef>
-#include <vector>
 
 #include "sluice/core/particles.hpp"
-#include "sluice/geometry/polygon.hpp"
+#include "sluice/geometry/solid.hpp"
 
 namespace sluice {
 
 // Returns the number of particles put back.
-std::size_t put_back_leaked(Particles<2>& p, const std::vector<Polygon>& solids, double dx, int threads = 1);
+template <int Dim>
+std::size_t put_back_leaked(Particles<Dim>& p, const Solids<Dim>& solids, double dx, int threads = 1);
 
 }  // namespace sluice

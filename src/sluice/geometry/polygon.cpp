@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
+#include <tuple>
 
 namespace sluice {
 
@@ -18,10 +20,10 @@ Vec2 closest_on_segment(Vec2 p, Vec2 a, Vec2 b) {
 }  // namespace
 
 Polygon Polygon::box(Vec2 lower, Vec2 upper) {
-  return Polygon{{lower, {upper[0], lower[1]}, upper, {lower[0], upper[1]}}};
+  return Polygon({lower, {upper[0], lower[1]}, upper, {lower[0], upper[1]}});
 }
 
-bool Polygon::contains(Vec2 p) const {
+bool Polygon::contains(const Vec2& p) const {
   bool inside = false;
   const std::size_t n = points.size();
   for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
@@ -52,6 +54,68 @@ Vec2 Polygon::closest_boundary_point(Vec2 p) const {
 }
 
 double Polygon::distance_to_boundary(Vec2 p) const { return norm(closest_boundary_point(p) - p); }
+
+double Polygon::signed_distance(const Vec2& p) const {
+  const double d = distance_to_boundary(p);
+  return contains(p) ? -d : d;
+}
+
+SurfacePoint<2> Polygon::closest_surface_point(const Vec2& p) const {
+  SurfacePoint<2> s{closest_boundary_point(p), {}};
+  const Vec2 towards = s.point - p;
+  const double len = norm(towards);
+  if (len > 0.0) s.normal = (contains(p) ? 1.0 : -1.0) / len * towards;
+  return s;
+}
+
+// Rows parallel to each edge at depths (k + 1/2) dx, spaced about dx along the edge, and arcs of the
+// same depths around each reflex corner (where the solid wraps around the water and the rows of the two
+// edges leave a wedge empty). Only points inside the polygon are kept.
+void Polygon::fill_surface_layers(double dx, int layers, const std::function<void(const Vec2&)>& add) const {
+  const std::size_t n = points.size();
+  double twice_area = 0.0;
+  for (std::size_t k = 0, j = n - 1; k < n; j = k++)
+    twice_area += points[j][0] * points[k][1] - points[k][0] * points[j][1];
+  const double orientation = twice_area > 0.0 ? 1.0 : -1.0;  // +1: counter-clockwise
+  auto edge = [&](std::size_t k) {
+    const Vec2 a = points[k], b = points[(k + 1) % n];
+    const double length = norm(b - a);
+    const Vec2 tangent = (1.0 / length) * (b - a);
+    const Vec2 inward = orientation * Vec2{-tangent[1], tangent[0]};  // into the solid
+    return std::tuple{a, length, tangent, inward};
+  };
+  auto keep = [&](Vec2 p) {
+    if (contains(p)) add(p);
+  };
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto [a, length, tangent, inward] = edge(k);
+    if (length <= 0.0) continue;
+    const int along = std::max(1, static_cast<int>(std::lround(length / dx)));
+    const double spacing = length / along;
+    for (int layer = 0; layer < layers; ++layer) {
+      const double depth = (layer + 0.5) * dx;
+      for (int j = 0; j < along; ++j) keep(a + ((j + 0.5) * spacing) * tangent + depth * inward);
+    }
+  }
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto [a_in, len_in, t_in, n_in] = edge((k + n - 1) % n);
+    const auto [vertex, len_out, t_out, n_out] = edge(k);
+    const double turn = orientation * (t_in[0] * t_out[1] - t_in[1] * t_out[0]);
+    if (turn >= -1e-12) continue;  // convex (or straight) corner of the solid: the rows overlap
+    const double start = std::atan2(n_in[1], n_in[0]);
+    double sweep = std::atan2(n_out[1], n_out[0]) - start;
+    while (sweep <= -std::numbers::pi) sweep += 2.0 * std::numbers::pi;
+    while (sweep > std::numbers::pi) sweep -= 2.0 * std::numbers::pi;
+    for (int layer = 0; layer < layers; ++layer) {
+      const double radius = (layer + 0.5) * dx;
+      const int count = static_cast<int>(std::lround(radius * std::abs(sweep) / dx));
+      for (int j = 0; j < count; ++j) {
+        const double angle = start + (j + 0.5) * sweep / count;
+        keep(vertex + radius * Vec2{std::cos(angle), std::sin(angle)});
+      }
+    }
+  }
+}
 
 Vec2 Polygon::lower() const {
   Vec2 lo = points.front();

@@ -1,23 +1,33 @@
-// 2D polygons: the shape of water regions and of solid walls (a box is a 4-point polygon).
+// 2D polygons: the shape of water regions and of solid walls (a box is a 4-point polygon), as Solids.
 #pragma once
 
 #include <vector>
 
 #include "sluice/core/vec.hpp"
+#include "sluice/geometry/solid.hpp"
 
 namespace sluice {
 
-struct Polygon {
+class Polygon final : public Solid<2> {
+ public:
   std::vector<Vec2> points;  // vertices in order (either orientation), implicitly closed
 
+  Polygon() = default;
+  explicit Polygon(std::vector<Vec2> vertices) : points(std::move(vertices)) {}
   static Polygon box(Vec2 lower, Vec2 upper);
 
-  [[nodiscard]] bool contains(Vec2 p) const;                 // strictly inside (crossing rule)
+  [[nodiscard]] bool contains(const Vec2& p) const override;  // strictly inside (crossing rule)
+  [[nodiscard]] double signed_distance(const Vec2& p) const override;
+  // The outward normal is along the line from p to the closest point (p inside) or back (p outside).
+  [[nodiscard]] SurfacePoint<2> closest_surface_point(const Vec2& p) const override;
+  [[nodiscard]] Vec2 lower() const override;  // bounding box
+  [[nodiscard]] Vec2 upper() const override;
+  // Rows parallel to each edge, and arcs around each reflex corner (see polygon.cpp).
+  void fill_surface_layers(double dx, int layers, const std::function<void(const Vec2&)>& add) const override;
+
   [[nodiscard]] double distance_to_boundary(Vec2 p) const;
   [[nodiscard]] Vec2 closest_boundary_point(Vec2 p) const;
-  [[nodiscard]] Vec2 lower() const;                          // bounding box
-  [[nodiscard]] Vec2 upper() const;
-  [[nodiscard]] double area() const;                         // unsigned
+  [[nodiscard]] double area() const;  // unsigned
 };
 
 }  // namespace sluice

@@ -3,9 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <numbers>
-#include <tuple>
 
+#include "sluice/geometry/box.hpp"
+#include "sluice/geometry/lattice.hpp"
+#include "sluice/geometry/polygon.hpp"
 #include "sluice/neighbors/cell_grid.hpp"
 #include "sluice/physics/eos.hpp"
 
@@ -17,131 +18,136 @@ int wall_layers(const Case& c) {
 
 namespace {
 
-// Lattice points anchor + (i + 1/2) dx along one axis, for those strictly inside (lo, hi).
-std::vector<double> lattice(double anchor, double lo, double hi, double dx) {
-  std::vector<double> v;
-  const long first = static_cast<long>(std::floor((lo - anchor) / dx - 0.5));
-  const long last = static_cast<long>(std::ceil((hi - anchor) / dx - 0.5));
-  for (long i = first; i <= last; ++i) {
-    const double x = anchor + (static_cast<double>(i) + 0.5) * dx;
-    if (x > lo && x < hi) v.push_back(x);
-  }
-  return v;
+// A box solid. In 2D a box is the 4-point polygon, so that a box and the same polygon given by its
+// corners place exactly the same particles.
+template <int Dim>
+std::shared_ptr<const Solid<Dim>> make_box(const Vec<Dim>& lower, const Vec<Dim>& upper) {
+  if constexpr (Dim == 2) return std::make_shared<Polygon>(Polygon::box(lower, upper));
+  else return std::make_shared<Box<Dim>>(lower, upper);
 }
 
-void add_tank(Setup& s, const Case& c) {
+// The tank: a floor slab under everything, the side walls axis by axis, and the lid. Each wall's layers
+// are anchored at its own inner face, so the first layer sits dx/2 behind it. The walls across x take
+// the whole extent of the other horizontal axis (corners included); the later ones only the inside.
+template <int Dim>
+void add_tank(Setup<Dim>& s, const Case& c) {
+  constexpr int up = Dim - 1;
   const double dx = c.dx;
   const double depth = wall_layers(c) * dx;
-  const double w = c.tank_width;
-  const double h = c.tank_height;
-  auto add_points = [&](const std::vector<double>& xs, const std::vector<double>& ys) {
-    for (double y : ys)
-      for (double x : xs) s.particles.add({x, y}, Kind::wall, c.rest_density);
+  const Vec3 size = c.tank_size();
+  const double height = size[up];
+  auto add_slab = [&](const std::array<std::vector<double>, Dim>& axes, const Vec<Dim>& lo, const Vec<Dim>& hi) {
+    for_each_product_point<Dim>(axes, [&](const Vec<Dim>& x) { s.particles.add(x, Kind::wall, c.rest_density); });
+    s.solids.push_back(make_box<Dim>(lo, hi));
   };
-  // Each wall's layers are anchored at its own inner face, so the first layer sits dx/2 behind it.
-  const auto columns = lattice(0.0, -depth, w + depth, dx);
-  add_points(columns, lattice(0.0, -depth, 0.0, dx));
-  add_points(lattice(0.0, -depth, 0.0, dx), lattice(0.0, 0.0, h, dx));
-  add_points(lattice(w, w, w + depth, dx), lattice(0.0, 0.0, h, dx));
-  s.solids.push_back(Polygon::box({-depth, -depth}, {w + depth, 0.0}));
-  s.solids.push_back(Polygon::box({-depth, 0.0}, {0.0, h}));
-  s.solids.push_back(Polygon::box({w, 0.0}, {w + depth, h}));
+  std::array<std::vector<double>, Dim> full;  // horizontal axes across the side walls
+  Vec<Dim> full_lo{}, full_hi{};
+  for (int a = 0; a < up; ++a) {
+    full[a] = lattice(0.0, -depth, size[a] + depth, dx);
+    full_lo[a] = -depth;
+    full_hi[a] = size[a] + depth;
+  }
+  {
+    auto axes = full;
+    Vec<Dim> lo = full_lo, hi = full_hi;
+    axes[up] = lattice(0.0, -depth, 0.0, dx);
+    lo[up] = -depth;
+    hi[up] = 0.0;
+    add_slab(axes, lo, hi);
+  }
+  for (int a = 0; a < up; ++a) {
+    auto axes = full;
+    Vec<Dim> lo = full_lo, hi = full_hi;
+    for (int b = 0; b < a; ++b) {
+      axes[b] = lattice(0.0, 0.0, size[b], dx);
+      lo[b] = 0.0;
+      hi[b] = size[b];
+    }
+    axes[up] = lattice(0.0, 0.0, height, dx);
+    lo[up] = 0.0;
+    hi[up] = height;
+    axes[a] = lattice(0.0, -depth, 0.0, dx);
+    lo[a] = -depth;
+    hi[a] = 0.0;
+    add_slab(axes, lo, hi);
+    axes[a] = lattice(size[a], size[a], size[a] + depth, dx);
+    lo[a] = size[a];
+    hi[a] = size[a] + depth;
+    add_slab(axes, lo, hi);
+  }
   if (c.tank_lid) {
-    add_points(columns, lattice(h, h, h + depth, dx));
-    s.solids.push_back(Polygon::box({-depth, h}, {w + depth, h + depth}));
+    auto axes = full;
+    Vec<Dim> lo = full_lo, hi = full_hi;
+    axes[up] = lattice(height, height, height + depth, dx);
+    lo[up] = height;
+    hi[up] = height + depth;
+    add_slab(axes, lo, hi);
   }
-  s.domain_lower = {-depth, -depth};
-  s.domain_upper = {w + depth, h + depth};
-}
-
-Polygon region_polygon(const Region& r) {
-  return r.shape == "polygon" ? Polygon{r.points} : Polygon::box(r.min, r.max);
-}
-
-// Fills a solid polygon with wall particles to a depth of `layers` x dx inside its outline: rows
-// parallel to each edge at depths (k + 1/2) dx, spaced about dx along the edge, and arcs of the same
-// depths around each reflex corner (where the solid wraps around the water and the rows of the two
-// edges leave a wedge empty). Points closer than dx/2 to each other are thinned out afterwards.
-void add_solid(Setup& s, const Case& c, const Polygon& solid) {
-  const double dx = c.dx;
-  const int layers = wall_layers(c);
-  const std::size_t n = solid.points.size();
-  double twice_area = 0.0;
-  for (std::size_t k = 0, j = n - 1; k < n; j = k++)
-    twice_area += solid.points[j][0] * solid.points[k][1] - solid.points[k][0] * solid.points[j][1];
-  const double orientation = twice_area > 0.0 ? 1.0 : -1.0;  // +1: counter-clockwise
-  auto edge = [&](std::size_t k) {
-    const Vec2 a = solid.points[k], b = solid.points[(k + 1) % n];
-    const double length = norm(b - a);
-    const Vec2 tangent = (1.0 / length) * (b - a);
-    const Vec2 inward = orientation * Vec2{-tangent[1], tangent[0]};  // into the solid
-    return std::tuple{a, length, tangent, inward};
-  };
-  auto add = [&](Vec2 p) {
-    if (solid.contains(p)) s.particles.add(p, Kind::wall, c.rest_density);
-  };
-  for (std::size_t k = 0; k < n; ++k) {
-    const auto [a, length, tangent, inward] = edge(k);
-    if (length <= 0.0) continue;
-    const int along = std::max(1, static_cast<int>(std::lround(length / dx)));
-    const double spacing = length / along;
-    for (int layer = 0; layer < layers; ++layer) {
-      const double depth = (layer + 0.5) * dx;
-      for (int j = 0; j < along; ++j) add(a + ((j + 0.5) * spacing) * tangent + depth * inward);
-    }
-  }
-  for (std::size_t k = 0; k < n; ++k) {
-    const auto [a_in, len_in, t_in, n_in] = edge((k + n - 1) % n);
-    const auto [vertex, len_out, t_out, n_out] = edge(k);
-    const double turn = orientation * (t_in[0] * t_out[1] - t_in[1] * t_out[0]);
-    if (turn >= -1e-12) continue;  // convex (or straight) corner of the solid: the rows overlap
-    const double start = std::atan2(n_in[1], n_in[0]);
-    double sweep = std::atan2(n_out[1], n_out[0]) - start;
-    while (sweep <= -std::numbers::pi) sweep += 2.0 * std::numbers::pi;
-    while (sweep > std::numbers::pi) sweep -= 2.0 * std::numbers::pi;
-    for (int layer = 0; layer < layers; ++layer) {
-      const double radius = (layer + 0.5) * dx;
-      const int count = static_cast<int>(std::lround(radius * std::abs(sweep) / dx));
-      for (int j = 0; j < count; ++j) {
-        const double angle = start + (j + 0.5) * sweep / count;
-        add(vertex + radius * Vec2{std::cos(angle), std::sin(angle)});
-      }
-    }
-  }
-  s.solids.push_back(solid);
+  s.domain_lower = full_lo;
+  s.domain_upper = full_hi;
+  s.domain_lower[up] = -depth;
+  s.domain_upper[up] = height + depth;
 }
 
 // Water on the lattice (i + 1/2) dx inside the region, outside every solid and at least dx/2 from
 // every solid surface (so at least dx from the first wall layer).
-void add_water(Setup& s, const Case& c, const Region& r) {
-  const Polygon region = region_polygon(r);
+template <int Dim>
+void add_water(Setup<Dim>& s, const Case& c, const Region& r) {
+  const auto region = region_solid<Dim>(r);
   const double tol = 1e-9 * c.dx;
-  const Vec2 lo = region.lower(), hi = region.upper();
-  for (double y : lattice(0.0, lo[1] - tol, hi[1] + tol, c.dx))
-    for (double x : lattice(0.0, lo[0] - tol, hi[0] + tol, c.dx)) {
-      const Vec2 p{x, y};
-      if (!region.contains(p)) continue;
-      const bool blocked = std::any_of(s.solids.begin(), s.solids.end(), [&](const Polygon& q) {
-        return q.contains(p) || q.distance_to_boundary(p) < 0.5 * c.dx - tol;
-      });
-      if (!blocked) s.particles.add(p, Kind::fluid, c.rest_density);
-    }
+  Vec<Dim> lo = region->lower(), hi = region->upper();
+  for (int d = 0; d < Dim; ++d) {
+    lo[d] -= tol;
+    hi[d] += tol;
+  }
+  for_each_lattice_point<Dim>(Vec<Dim>{}, lo, hi, c.dx, [&](const Vec<Dim>& p) {
+    if (!region->contains(p)) return;
+    const bool blocked = std::any_of(s.solids.begin(), s.solids.end(), [&](const auto& q) {
+      return q->signed_distance(p) < 0.5 * c.dx - tol;
+    });
+    if (!blocked) s.particles.add(p, Kind::fluid, c.rest_density);
+  });
+}
+
+// The offsets of Chebyshev length `off` in Dim - 1 horizontal axes, in lexicographic order.
+template <int Dim>
+std::vector<std::array<long, Dim - 1>> ring(long off) {
+  std::vector<std::array<long, Dim - 1>> out;
+  std::array<long, Dim - 1> k;
+  k.fill(-off);
+  while (true) {
+    long largest = 0;
+    for (long v : k) largest = std::max(largest, std::abs(v));
+    if (largest == off) out.push_back(k);
+    int d = Dim - 2;
+    while (d >= 0 && ++k[d] > off) k[d--] = -off;
+    if (d < 0) return out;
+  }
 }
 
 }  // namespace
 
-std::size_t remove_near_coincident(Particles<2>& p, double min_distance) {
+template <int Dim>
+std::shared_ptr<const Solid<Dim>> region_solid(const Region& r) {
+  if constexpr (Dim == 2)
+    if (r.shape == Shape::polygon) return std::make_shared<Polygon>(r.points);
+  return make_box<Dim>(first<Dim>(r.min), first<Dim>(r.max));
+}
+
+template <int Dim>
+std::size_t remove_near_coincident(Particles<Dim>& p, double min_distance) {
   const std::size_t n = p.size();
   if (n == 0) return 0;
-  Vec2 lo{p.position[0][0], p.position[1][0]}, hi = lo;
+  Vec<Dim> lo{}, hi{};
+  for (int d = 0; d < Dim; ++d) lo[d] = hi[d] = p.position[d][0];
   for (std::size_t i = 0; i < n; ++i)
-    for (int d = 0; d < 2; ++d) {
+    for (int d = 0; d < Dim; ++d) {
       lo[d] = std::min(lo[d], p.position[d][i]);
       hi[d] = std::max(hi[d], p.position[d][i]);
     }
   // Cells of twice the distance: a neighbour within it is in an adjacent cell, and the cell array stays
   // small over the air of a mostly empty tank.
-  CellGrid<2> grid(lo, hi, 2.0 * min_distance);
+  CellGrid<Dim> grid(lo, hi, 2.0 * min_distance);
   grid.bin(p.position);
   const auto& order = grid.order();  // sorted index k holds particle order[k]
   std::vector<std::uint8_t> removed(n, 0);
@@ -157,9 +163,12 @@ std::size_t remove_near_coincident(Particles<2>& p, double min_distance) {
           if (j == i || removed[j]) continue;
           if (p.kind[j] == Kind::wall && pass == Kind::fluid) continue;
           if (p.kind[j] == pass && j < i) continue;
-          const double dx = p.position[0][i] - p.position[0][j];
-          const double dy = p.position[1][i] - p.position[1][j];
-          if (dx * dx + dy * dy < min2) removed[j] = 1;
+          double r2 = 0.0;
+          for (int d = 0; d < Dim; ++d) {
+            const double delta = p.position[d][i] - p.position[d][j];
+            r2 += delta * delta;
+          }
+          if (r2 < min2) removed[j] = 1;
         }
       });
     }
@@ -167,56 +176,63 @@ std::size_t remove_near_coincident(Particles<2>& p, double min_distance) {
   std::vector<std::uint32_t> keep;
   for (std::uint32_t i = 0; i < n; ++i)
     if (!removed[i]) keep.push_back(i);
-  const std::size_t count = n - keep.size();
-  Particles<2> out;
-  out.resize(keep.size());
-  for (std::size_t k = 0; k < keep.size(); ++k) {
-    const std::uint32_t i = keep[k];
-    for (int d = 0; d < 2; ++d) {
-      out.position[d][k] = p.position[d][i];
-      out.velocity[d][k] = p.velocity[d][i];
-    }
-    out.density[k] = p.density[i];
-    out.kind[k] = p.kind[i];
-    out.id[k] = static_cast<std::uint32_t>(k);
-  }
-  p = std::move(out);
-  return count;
+  p.keep_only(keep);
+  return n - keep.size();
 }
 
-void set_hydrostatic_density(Particles<2>& p, const Case& c) {
+template <int Dim>
+void set_hydrostatic_density(Particles<Dim>& p, const Case& c) {
+  constexpr int up = Dim - 1;
   const TaitEos eos{c.rest_density, c.sound_speed, c.gamma};
-  const double g = -c.gravity[1];
+  const double g = -c.gravity[up];
   if (g <= 0.0) return;
+  using Column = std::array<long, Dim - 1>;
+  auto column = [&](std::size_t i) {
+    Column k{};
+    for (int a = 0; a < up; ++a) k[a] = static_cast<long>(std::floor(p.position[a][i] / c.dx));
+    return k;
+  };
   // Free-surface height over each lattice column: top of the highest fluid particle in it.
-  std::map<long, double> surface;
-  auto column = [&](double x) { return static_cast<long>(std::floor(x / c.dx)); };
+  std::map<Column, double> surface;
   for (std::size_t i = 0; i < p.size(); ++i) {
     if (!p.is_fluid(i)) continue;
-    const long col = column(p.position[0][i]);
-    const double top = p.position[1][i] + 0.5 * c.dx;
-    auto [it, inserted] = surface.emplace(col, top);
+    const double top = p.position[up][i] + 0.5 * c.dx;
+    auto [it, inserted] = surface.emplace(column(i), top);
     if (!inserted) it->second = std::max(it->second, top);
   }
   if (surface.empty()) return;
-  const long reach = wall_layers(c) + 1;  // walls beside the water take the nearest column's surface
+  // Walls beside the water take the nearest column's surface.
+  const long reach = wall_layers(c) + 1;
+  std::vector<std::vector<Column>> rings;
+  for (long off = 1; off <= reach; ++off) rings.push_back(ring<Dim>(off));
   for (std::size_t i = 0; i < p.size(); ++i) {
-    const long col = column(p.position[0][i]);
+    const Column col = column(i);
     auto it = surface.find(col);
-    for (long off = 1; it == surface.end() && off <= reach; ++off) {
-      it = surface.find(col - off);
-      if (it == surface.end()) it = surface.find(col + off);
+    for (const auto& offsets : rings) {
+      for (const Column& o : offsets) {
+        if (it != surface.end()) break;
+        Column near = col;
+        for (int a = 0; a < up; ++a) near[a] += o[a];
+        it = surface.find(near);
+      }
+      if (it != surface.end()) break;
     }
     if (it == surface.end()) continue;
-    const double depth = it->second - p.position[1][i];
+    const double depth = it->second - p.position[up][i];
     if (depth > 0.0) p.density[i] = eos.density(c.rest_density * g * depth);
   }
 }
 
-Setup build_setup(const Case& c) {
-  Setup s;
+template <int Dim>
+Setup<Dim> build_setup(const Case& c) {
+  Setup<Dim> s;
   add_tank(s, c);
-  for (const Region& r : c.walls) add_solid(s, c, region_polygon(r));
+  const int layers = wall_layers(c);
+  for (const Region& r : c.walls) {
+    const auto solid = region_solid<Dim>(r);
+    solid->fill_surface_layers(c.dx, layers, [&](const Vec<Dim>& x) { s.particles.add(x, Kind::wall, c.rest_density); });
+    s.solids.push_back(solid);
+  }
   for (const Region& r : c.water) add_water(s, c, r);
   s.removed_near_coincident = remove_near_coincident(s.particles, 0.5 * c.dx);
   if (c.hydrostatic_start) set_hydrostatic_density(s.particles, c);
@@ -229,5 +245,14 @@ Setup build_setup(const Case& c) {
   }
   return s;
 }
+
+#define SLUICE_INSTANTIATE(Dim)                                                      \
+  template std::shared_ptr<const Solid<Dim>> region_solid<Dim>(const Region&);       \
+  template Setup<Dim> build_setup<Dim>(const Case&);                                 \
+  template std::size_t remove_near_coincident<Dim>(Particles<Dim>&, double);         \
+  template void set_hydrostatic_density<Dim>(Particles<Dim>&, const Case&);
+SLUICE_INSTANTIATE(2)
+SLUICE_INSTANTIATE(3)
+#undef SLUICE_INSTANTIATE
 
 }  // namespace sluice

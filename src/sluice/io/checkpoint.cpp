@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <type_traits>
 
 #include "sluice/case/params.hpp"
 #include "sluice/io/atomic_file.hpp"
@@ -67,13 +68,70 @@ class Reader {
   std::string source_;
 };
 
+// Element type codes of the field table.
+template <class T>
+constexpr std::uint8_t element_code() {
+  if constexpr (std::is_same_v<T, double>) return 1;
+  else if constexpr (sizeof(T) == 1) return 2;  // std::uint8_t and Kind
+  else return 3;                                // std::uint32_t
+  static_assert(std::is_same_v<T, double> || sizeof(T) == 1 || std::is_same_v<T, std::uint32_t>);
+}
+
+template <int Dim>
+void put_particles(std::string& out, const Particles<Dim>& p) {
+  std::uint32_t fields = 0;
+  Particles<Dim>::fields(p, [&](const FieldSpec& info, const auto&) { fields += info.has(field_role::checkpoint); });
+  put<std::uint32_t>(out, fields);
+  Particles<Dim>::fields(p, [&](const FieldSpec& info, const auto& field) {
+    if (!info.has(field_role::checkpoint)) return;
+    put<std::uint16_t>(out, static_cast<std::uint16_t>(info.name.size()));
+    out += info.name;
+    std::uint8_t components = 0, code = 0;
+    Particles<Dim>::components(field, [&](const auto& c) {
+      ++components;
+      code = element_code<typename std::decay_t<decltype(c)>::value_type>();
+    });
+    put(out, code);
+    put(out, components);
+    Particles<Dim>::components(field, [&](const auto& c) { put_array(out, c); });
+  });
+}
+
+template <int Dim>
+Particles<Dim> get_particles(Reader& r, std::size_t n) {
+  Particles<Dim> p;
+  p.resize(n);
+  const auto stored = r.get<std::uint32_t>();
+  std::uint32_t expected = 0;
+  Particles<Dim>::fields(p, [&](const FieldSpec& info, const auto&) { expected += info.has(field_role::checkpoint); });
+  if (stored != expected) r.fail(fmt::format("{} particle fields, this sluice writes {}", stored, expected));
+  // The fields in registry order, each named and typed as this sluice declares it.
+  Particles<Dim>::fields(p, [&](const FieldSpec& info, auto& field) {
+    if (!info.has(field_role::checkpoint)) return;
+    const auto length = r.get<std::uint16_t>();
+    const std::string name = r.get_string(length);
+    if (name != info.name) r.fail(fmt::format("field '{}' where '{}' was expected", name, info.name));
+    const auto code = r.get<std::uint8_t>();
+    const auto components = r.get<std::uint8_t>();
+    std::uint8_t want_components = 0, want_code = 0;
+    Particles<Dim>::components(field, [&](auto& c) {
+      ++want_components;
+      want_code = element_code<typename std::decay_t<decltype(c)>::value_type>();
+    });
+    if (code != want_code || components != want_components)
+      r.fail(fmt::format("field '{}' has element type {} and {} components; expected {} and {}", name, code,
+                         components, want_code, want_components));
+    Particles<Dim>::components(field, [&](auto& c) { r.get_array(c, n); });
+  });
+  return p;
+}
+
 }  // namespace
 
 std::string checkpoint_bytes(const Simulation& sim, double wall_seconds) {
-  const Particles<2>& p = sim.particles();
   std::string out(magic, sizeof magic);
   put<std::uint32_t>(out, checkpoint_format_version);
-  put<std::uint32_t>(out, 2);  // dimension
+  put<std::uint32_t>(out, static_cast<std::uint32_t>(sim.dimension()));
   const std::string case_text = case_template(sim.config());
   put<std::uint64_t>(out, case_text.size());
   out += case_text;
@@ -83,13 +141,8 @@ std::string checkpoint_bytes(const Simulation& sim, double wall_seconds) {
   put(out, c.last_dt);
   put(out, c.leaks);
   put(out, wall_seconds);
-  put<std::uint64_t>(out, p.size());
-  for (int d = 0; d < 2; ++d) put_array(out, p.position[d]);
-  for (int d = 0; d < 2; ++d) put_array(out, p.velocity[d]);
-  put_array(out, p.density);
-  put_array(out, p.kind);
-  put_array(out, p.id);
-  put_array(out, p.needs_density_repair);
+  put<std::uint64_t>(out, sim.particle_count());
+  sim.visit([&](const auto& solver) { put_particles(out, solver.particles()); });
   const auto crc = static_cast<std::uint32_t>(
       crc32(0L, reinterpret_cast<const Bytef*>(out.data()), static_cast<uInt>(out.size())));
   put(out, crc);
@@ -102,6 +155,9 @@ Checkpoint parse_checkpoint(const std::string& bytes, const std::string& source)
     header.fail("it does not start with the sluice checkpoint signature");
   std::uint32_t version = 0;
   std::memcpy(&version, bytes.data() + sizeof magic, sizeof version);
+  if (version == 1)
+    header.fail("format version 1, written by an earlier sluice (before the field table of version 2); run that "
+                "sluice to finish the run, or start the case again");
   if (version != checkpoint_format_version)
     header.fail(fmt::format("format version {}, this sluice reads version {}", version, checkpoint_format_version));
   std::uint32_t stored_crc = 0;
@@ -113,7 +169,8 @@ Checkpoint parse_checkpoint(const std::string& bytes, const std::string& source)
   Reader r(bytes, bytes.size() - sizeof stored_crc, source);
   r.get_string(sizeof magic);
   r.get<std::uint32_t>();
-  if (r.get<std::uint32_t>() != 2) r.fail("written by a run of another dimension");
+  const auto dimension = r.get<std::uint32_t>();
+  if (dimension != 2 && dimension != 3) r.fail(fmt::format("dimension {}, expected 2 or 3", dimension));
   const auto case_length = r.get<std::uint64_t>();
   const std::string case_text = r.get_string(case_length);
   Checkpoint cp;
@@ -122,6 +179,8 @@ Checkpoint parse_checkpoint(const std::string& bytes, const std::string& source)
   } catch (const CaseError& e) {
     r.fail(e.what());
   }
+  if (static_cast<std::uint32_t>(cp.config.dimension) != dimension)
+    r.fail(fmt::format("{}D particles with a {}D case", dimension, cp.config.dimension));
   cp.clock.time = r.get<double>();
   cp.clock.step = r.get<std::int64_t>();
   cp.clock.last_dt = r.get<double>();
@@ -137,19 +196,22 @@ Checkpoint parse_checkpoint(const std::string& bytes, const std::string& source)
   const auto n = r.get<std::uint64_t>();
   // 8 doubles' worth of bytes per particle at most; reject absurd counts before allocating.
   if (n > r.remaining() / 40) r.fail("particle count does not match the file size");
-  Particles<2>& p = cp.particles;
-  p.resize(n);
-  for (int d = 0; d < 2; ++d) r.get_array(p.position[d], n);
-  for (int d = 0; d < 2; ++d) r.get_array(p.velocity[d], n);
-  r.get_array(p.density, n);
-  r.get_array(p.kind, n);
-  r.get_array(p.id, n);
-  r.get_array(p.needs_density_repair, n);
-  if (r.remaining() != 0) r.fail("trailing bytes after the particle data");
-  std::vector<std::uint8_t> seen(n, 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (static_cast<std::uint8_t>(p.kind[i]) > 1) r.fail("unknown particle kind");
-    if (p.id[i] >= n || seen[p.id[i]]++) r.fail("particle ids are not a permutation of 0..n-1");
+  const auto check = [&](const auto& p) {
+    if (r.remaining() != 0) r.fail("trailing bytes after the particle data");
+    std::vector<std::uint8_t> seen(n, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (static_cast<std::uint8_t>(p.kind[i]) > 1) r.fail("unknown particle kind");
+      if (p.id[i] >= n || seen[p.id[i]]++) r.fail("particle ids are not a permutation of 0..n-1");
+    }
+  };
+  if (dimension == 3) {
+    Particles<3> p = get_particles<3>(r, n);
+    check(p);
+    cp.particles = std::move(p);
+  } else {
+    Particles<2> p = get_particles<2>(r, n);
+    check(p);
+    cp.particles = std::move(p);
   }
   return cp;
 }

@@ -10,30 +10,34 @@
 namespace sluice {
 
 Frame make_frame(const Simulation& sim) {
-  const Particles<2>& p = sim.particles();
-  const std::size_t n = p.size();
   Frame f;
   f.time = sim.time();
   f.step = sim.clock().step;
   f.dx = sim.config().dx;
-  f.position.resize(2 * n);
-  f.velocity.resize(2 * n);
-  f.density.resize(n);
-  f.pressure.resize(n);
-  f.kind.resize(n);
-  f.id.resize(n);
-  // Ids are 0..n-1; place each particle at the row of its id.
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t row = p.id[i];
-    for (int d = 0; d < 2; ++d) {
-      f.position[2 * row + d] = p.position[d][i];
-      f.velocity[2 * row + d] = p.velocity[d][i];
+  f.dimension = sim.dimension();
+  sim.visit([&](const auto& solver) {
+    const auto& p = solver.particles();
+    constexpr int dim = std::decay_t<decltype(p)>::dim;
+    const std::size_t n = p.size();
+    f.position.resize(dim * n);
+    f.velocity.resize(dim * n);
+    f.density.resize(n);
+    f.pressure.resize(n);
+    f.kind.resize(n);
+    f.id.resize(n);
+    // Ids are 0..n-1; place each particle at the row of its id.
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t row = p.id[i];
+      for (int d = 0; d < dim; ++d) {
+        f.position[dim * row + d] = p.position[d][i];
+        f.velocity[dim * row + d] = p.velocity[d][i];
+      }
+      f.density[row] = p.density[i];
+      f.pressure[row] = solver.eos().pressure(p.density[i]);
+      f.kind[row] = static_cast<std::uint8_t>(p.kind[i]);
+      f.id[row] = p.id[i];
     }
-    f.density[row] = p.density[i];
-    f.pressure[row] = sim.eos().pressure(p.density[i]);
-    f.kind[row] = static_cast<std::uint8_t>(p.kind[i]);
-    f.id[row] = p.id[i];
-  }
+  });
   return f;
 }
 
@@ -43,8 +47,8 @@ std::string frame_to_npz(const Frame& f) {
       {"t", NpyArray::of(std::vector<double>{f.time}, {})},
       {"step", NpyArray::of(std::vector<std::int64_t>{f.step}, {})},
       {"dx", NpyArray::of(std::vector<double>{f.dx}, {})},
-      {"x", NpyArray::of(f.position, {n, 2})},
-      {"v", NpyArray::of(f.velocity, {n, 2})},
+      {"x", NpyArray::of(f.position, {n, static_cast<std::size_t>(f.dimension)})},
+      {"v", NpyArray::of(f.velocity, {n, static_cast<std::size_t>(f.dimension)})},
       {"rho", NpyArray::of(f.density, {n})},
       {"p", NpyArray::of(f.pressure, {n})},
       {"kind", NpyArray::of(f.kind, {n})},
@@ -78,8 +82,13 @@ Frame frame_from_npz(const std::string& bytes, const std::string& source) {
     f.kind = array("kind").values<std::uint8_t>();
     f.id = array("id").values<std::uint32_t>();
     const std::size_t n = f.density.size();
-    if (f.position.size() != 2 * n || f.velocity.size() != 2 * n || f.pressure.size() != n || f.kind.size() != n ||
-        f.id.size() != n)
+    const auto& x_shape = array("x").shape;
+    if (x_shape.size() != 2 || (x_shape[1] != 2 && x_shape[1] != 3))
+      throw FormatError("'x' is not an array of 2D or 3D positions (N x 2 or N x 3)");
+    f.dimension = static_cast<int>(x_shape[1]);
+    const std::size_t dim = x_shape[1];
+    if (f.position.size() != dim * n || f.velocity.size() != dim * n || f.pressure.size() != n ||
+        f.kind.size() != n || f.id.size() != n)
       throw FormatError("arrays have inconsistent lengths");
     return f;
   } catch (const FormatError& e) {
@@ -110,10 +119,11 @@ std::string raw_bytes(const std::vector<T>& v) {
 std::string frame_to_vtu(const Frame& f) {
   const std::size_t n = f.size();
   std::vector<double> points(3 * n, 0.0), velocity(3 * n, 0.0);
+  const std::size_t dim = static_cast<std::size_t>(f.dimension);
   for (std::size_t i = 0; i < n; ++i)
-    for (int d = 0; d < 2; ++d) {
-      points[3 * i + d] = f.position[2 * i + d];
-      velocity[3 * i + d] = f.velocity[2 * i + d];
+    for (std::size_t d = 0; d < dim; ++d) {
+      points[3 * i + d] = f.position[dim * i + d];
+      velocity[3 * i + d] = f.velocity[dim * i + d];
     }
   std::vector<std::int64_t> connectivity(n), offsets(n);
   std::iota(connectivity.begin(), connectivity.end(), 0);

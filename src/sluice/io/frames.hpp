@@ -15,8 +15,9 @@ struct Frame {
   double time = 0.0;
   std::int64_t step = 0;
   double dx = 0.0;                  // particle spacing, for drawing particles at their size
-  std::vector<double> position;     // N x 2, row-major
-  std::vector<double> velocity;     // N x 2
+  int dimension = 2;
+  std::vector<double> position;     // N x dimension, row-major
+  std::vector<double> velocity;     // N x dimension
   std::vector<double> density;
   std::vector<double> pressure;
   std::vector<std::uint8_t> kind;   // 0 fluid, 1 wall
@@ -27,7 +28,7 @@ struct Frame {
 
 Frame make_frame(const Simulation& sim);
 
-// NumPy: arrays t, step, dx, x (N,2), v (N,2), rho, p, kind, id.
+// NumPy: arrays t, step, dx, x (N, dimension), v (N, dimension), rho, p, kind, id.
 std::string frame_to_npz(const Frame& f);
 Frame frame_from_npz(const std::string& bytes, const std::string& source);
 Frame read_npz_frame(const std::filesystem::path& path);

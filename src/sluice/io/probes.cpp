@@ -10,56 +10,109 @@
 
 namespace sluice {
 
-std::string probe_header(const Probe& probe) {
-  if (probe.type == "pressure") return "time,pressure,neighbours";
-  if (probe.type == "gauge") return "time,height";
-  return "time,distance,x,y";
+std::string probe_header(const Probe& probe, int dimension) {
+  switch (probe.type) {
+    case ProbeType::pressure: return "time,pressure,neighbours";
+    case ProbeType::gauge: return "time,height";
+    case ProbeType::front: return dimension == 3 ? "time,distance,x,y,z" : "time,distance,x,y";
+  }
+  return "";
 }
 
-std::vector<double> sample_probe(const Probe& probe, const Simulation& sim) {
-  const Particles<2>& p = sim.particles();
-  const double dx = sim.config().dx;
-  if (probe.type == "pressure") {
-    const CubicSpline<2> kernel(sim.smoothing_length());
-    const double support2 = 4.0 * kernel.h * kernel.h;
-    double weighted = 0.0, weight = 0.0;
-    int neighbours = 0;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      if (!p.is_fluid(i)) continue;
-      const double rx = p.position[0][i] - probe.point[0];
-      const double ry = p.position[1][i] - probe.point[1];
-      const double r2 = rx * rx + ry * ry;
-      if (r2 >= support2) continue;
-      const double w = kernel.value(std::sqrt(r2)) * sim.particle_mass() / p.density[i];
-      weighted += w * sim.eos().pressure(p.density[i]);
-      weight += w;
-      ++neighbours;
-    }
-    return {weight > 0.0 ? weighted / weight : 0.0, static_cast<double>(neighbours)};
+namespace {
+
+template <int Dim>
+std::vector<double> pressure_at(const Probe& probe, const Solver<Dim>& solver) {
+  const Particles<Dim>& p = solver.particles();
+  const Vec<Dim> at = first<Dim>(probe.point);
+  return std::visit(
+      [&](const auto& kernel) -> std::vector<double> {
+        const double support = std::decay_t<decltype(kernel)>::support * kernel.h;
+        double weighted = 0.0, weight = 0.0;
+        int neighbours = 0;
+        Vec<Dim> lower = at, upper = at;
+        for (int d = 0; d < Dim; ++d) lower[d] -= support, upper[d] += support;
+        solver.for_each_range_in_box(lower, upper, [&](std::uint32_t begin, std::uint32_t end) {
+          for (std::uint32_t i = begin; i < end; ++i) {
+            if (!p.is_fluid(i)) continue;
+            double r2 = 0.0;
+            for (int d = 0; d < Dim; ++d) {
+              const double r = p.position[d][i] - at[d];
+              r2 += r * r;
+            }
+            if (r2 >= support * support) continue;
+            const double w = kernel.value(std::sqrt(r2)) * solver.particle_mass() / p.density[i];
+            weighted += w * solver.eos().pressure(p.density[i]);
+            weight += w;
+            ++neighbours;
+          }
+        });
+        return {weight > 0.0 ? weighted / weight : 0.0, static_cast<double>(neighbours)};
+      },
+      solver.kernel());
+}
+
+template <int Dim>
+std::vector<double> gauge_height(const Probe& probe, const Solver<Dim>& solver) {
+  constexpr int up = Dim - 1;
+  const Particles<Dim>& p = solver.particles();
+  const double dx = solver.config().dx;
+  const double band = probe.band > 0.0 ? probe.band : dx;
+  Vec<Dim> lower{}, upper{};
+  for (int d = 0; d < up; ++d) {
+    lower[d] = probe.point[d] - band;
+    upper[d] = probe.point[d] + band;
   }
-  if (probe.type == "gauge") {
-    const double band = probe.band > 0.0 ? probe.band : dx;
-    double top = std::numeric_limits<double>::quiet_NaN();
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      if (!p.is_fluid(i) || std::abs(p.position[0][i] - probe.point[0]) > band) continue;
-      const double y = p.position[1][i] + 0.5 * dx;
+  lower[up] = -std::numeric_limits<double>::infinity();  // the whole column (clamped to the grid)
+  upper[up] = std::numeric_limits<double>::infinity();
+  double top = std::numeric_limits<double>::quiet_NaN();
+  solver.for_each_range_in_box(lower, upper, [&](std::uint32_t begin, std::uint32_t end) {
+    for (std::uint32_t i = begin; i < end; ++i) {
+      if (!p.is_fluid(i)) continue;
+      bool inside = true;
+      for (int d = 0; d < up; ++d) inside = inside && std::abs(p.position[d][i] - probe.point[d]) <= band;
+      if (!inside) continue;
+      const double y = p.position[up][i] + 0.5 * dx;
       if (!(top >= y)) top = y;
     }
-    return {std::isnan(top) ? 0.0 : top};
-  }
-  const Vec2 dir = (1.0 / norm(probe.direction)) * probe.direction;
+  });
+  return {std::isnan(top) ? 0.0 : top};
+}
+
+// The furthest fluid particle along the direction; of several equally far, the one of lowest index.
+template <int Dim>
+std::vector<double> front_position(const Probe& probe, const Solver<Dim>& solver) {
+  const Particles<Dim>& p = solver.particles();
+  const Vec<Dim> origin = first<Dim>(probe.point);
+  const Vec<Dim> dir = (1.0 / norm(first<Dim>(probe.direction))) * first<Dim>(probe.direction);
   double best = -std::numeric_limits<double>::infinity();
-  Vec2 at{0.0, 0.0};
+  Vec<Dim> at{};
   for (std::size_t i = 0; i < p.size(); ++i) {
     if (!p.is_fluid(i)) continue;
-    const Vec2 x{p.position[0][i], p.position[1][i]};
-    const double s = dot(x - probe.point, dir);
+    Vec<Dim> x{};
+    for (int d = 0; d < Dim; ++d) x[d] = p.position[d][i];
+    const double s = dot(x - origin, dir);
     if (s > best) {
       best = s;
       at = x;
     }
   }
-  return {best, at[0], at[1]};
+  std::vector<double> out{best};
+  out.insert(out.end(), at.begin(), at.end());
+  return out;
+}
+
+}  // namespace
+
+std::vector<double> sample_probe(const Probe& probe, const Simulation& sim) {
+  return sim.visit([&](const auto& solver) {
+    switch (probe.type) {
+      case ProbeType::pressure: return pressure_at(probe, solver);
+      case ProbeType::gauge: return gauge_height(probe, solver);
+      case ProbeType::front: break;
+    }
+    return front_position(probe, solver);
+  });
 }
 
 std::string csv_rows_until(const std::string& csv, double t_max) {
@@ -85,13 +138,13 @@ std::string csv_rows_until(const std::string& csv, double t_max) {
   return out;
 }
 
-ProbeRecorder::ProbeRecorder(const std::vector<Probe>& probes, std::filesystem::path dir, double keep_until,
-                             bool fresh)
+ProbeRecorder::ProbeRecorder(const std::vector<Probe>& probes, int dimension, std::filesystem::path dir,
+                             double keep_until, bool fresh)
     : dir_(std::move(dir)) {
   if (probes.empty()) return;
   create_directories_or_throw(dir_);
   for (const Probe& probe : probes) {
-    Series s{probe, probe_header(probe) + "\n", 0};
+    Series s{probe, probe_header(probe, dimension) + "\n", 0};
     const auto path = dir_ / (probe.name + ".csv");
     std::error_code ec;
     if (!fresh && std::filesystem::exists(path, ec)) s.text = csv_rows_until(read_file(path), keep_until);

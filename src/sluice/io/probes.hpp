@@ -1,7 +1,11 @@
 // Probes and gauges declared in the case, sampled during the run:
-//   pressure: kernel-weighted (Shepard-normalised) pressure of the fluid particles around a point;
-//   gauge:    water height at x: top of the highest fluid particle (y + dx/2) within a band around x;
-//   front:    furthest fluid particle from a point along a direction (its distance, and x, y).
+//   pressure: kernel-weighted (Shepard-normalised) pressure of the fluid particles around a point, with
+//             the run's kernel;
+//   gauge:    water height on a vertical line: top of the highest fluid particle (up + dx/2) within a
+//             band around the line;
+//   front:    furthest fluid particle from a point along a direction (its distance, and its position).
+// Pressure probes and gauges look only at the cells around them (the cell grid); the front is a
+// maximum over all the fluid, one multiply-add per particle.
 #pragma once
 
 #include <filesystem>
@@ -15,12 +19,13 @@ namespace sluice {
 
 // One sample of a probe: the values after the time column.
 std::vector<double> sample_probe(const Probe& probe, const Simulation& sim);
-std::string probe_header(const Probe& probe);
+std::string probe_header(const Probe& probe, int dimension);
 
 class ProbeRecorder {
  public:
   // Rows already on disk after `keep_until` are dropped (a restart continues from there).
-  ProbeRecorder(const std::vector<Probe>& probes, std::filesystem::path dir, double keep_until, bool fresh);
+  ProbeRecorder(const std::vector<Probe>& probes, int dimension, std::filesystem::path dir, double keep_until,
+                bool fresh);
   void sample(const Simulation& sim);  // called after every step; honours each probe's interval
   void flush();                        // rewrites each CSV atomically with all rows so far
 

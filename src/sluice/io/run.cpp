@@ -76,10 +76,10 @@ class Outputs {
   Outputs(const Simulation& sim, std::filesystem::path dir, bool fresh, double wall_before)
       : dir_(std::move(dir)), name_(sim.config().name), interval_(sim.config().output_interval),
         wall_before_(wall_before),
-        probes_(sim.config().probes, dir_ / output_files::probes_dir, sim.time(), fresh) {
+        probes_(sim.config().probes, sim.dimension(), dir_ / output_files::probes_dir, sim.time(), fresh) {
     const Case& c = sim.config();
-    write_npz_ = std::find(c.output_formats.begin(), c.output_formats.end(), "npz") != c.output_formats.end();
-    write_vtk_ = std::find(c.output_formats.begin(), c.output_formats.end(), "vtk") != c.output_formats.end();
+    write_npz_ = c.writes("npz");
+    write_vtk_ = c.writes("vtk");
     create_directories_or_throw(dir_ / output_files::frames_dir);
     diagnostics_ = "time,step,dt,max_speed,min_density,max_density,kinetic_energy,potential_energy,total_energy,"
                    "total_mass,leaks,min_particle_distance,wall_time\n";
@@ -193,10 +193,14 @@ std::string describe_instability(const std::string& failure, const Health& healt
     m += failure + "\n";
   } else {
     m += fmt::format("{} particle{} bad; the first:\n", health.offending, health.offending == 1 ? " is" : "s are");
+    auto vector = [](const Vec3& v, int dimension) {
+      std::string s = fmt::format("({:.4g}", v[0]);
+      for (int d = 1; d < dimension; ++d) s += fmt::format(", {:.4g}", v[d]);
+      return s + ")";
+    };
     for (const Offender& o : health.first)
-      m += fmt::format("  id {} at ({:.4g}, {:.4g}) m, velocity ({:.4g}, {:.4g}) m/s, density {:.6g} kg/m^3, {} "
-                       "neighbours: {}\n",
-                       o.id, o.position[0], o.position[1], o.velocity[0], o.velocity[1], o.density, o.neighbours,
+      m += fmt::format("  id {} at {} m, velocity {} m/s, density {:.6g} kg/m^3, {} neighbours: {}\n", o.id,
+                       vector(o.position, o.dimension), vector(o.velocity, o.dimension), o.density, o.neighbours,
                        o.reason);
   }
   m += fmt::format("The last good state (t = {:.6g} s, step {}) is saved as {}/frame_{:06} and {} in {}.\n",
@@ -246,7 +250,7 @@ RunResult run_case(const Case& requested, const RunOptions& options, std::ostrea
   Outputs outputs(*sim, options.output_dir, fresh, wall_before);
 
   RunResult result;
-  result.particles = sim->particles().size();
+  result.particles = sim->particle_count();
   result.force_evaluations_per_step = sim->force_evaluations_per_step();
   result.rest_density = c.rest_density;
   result.sound_speed = c.sound_speed;

@@ -129,6 +129,28 @@ class CellGrid {
     }
   }
 
+  // Calls f(begin, end) for each contiguous range of (sorted) particle indices covering the cells
+  // that overlap the box [lower, upper]: one range per row of cells, in increasing index order.
+  template <class F>
+  void for_each_range_in_box(const std::array<double, Dim>& lower, const std::array<double, Dim>& upper,
+                             F&& f) const {
+    std::array<int, Dim> lo{}, hi{};
+    for (int d = 0; d < Dim; ++d) {
+      lo[d] = coordinate(lower[d], d);
+      hi[d] = coordinate(upper[d], d);
+    }
+    std::array<int, Dim> at = lo;
+    while (true) {
+      std::size_t row = 0;  // index of the row's first cell: x fastest, then y, then z
+      for (int d = Dim - 1; d >= 1; --d) row = row * static_cast<std::size_t>(count_[d]) + static_cast<std::size_t>(at[d]);
+      row *= static_cast<std::size_t>(count_[0]);
+      f(cell_start_[row + lo[0]], cell_start_[row + hi[0] + 1]);
+      int d = 1;
+      while (d < Dim && ++at[d] > hi[d]) at[d] = lo[d], ++d;
+      if (d >= Dim) return;
+    }
+  }
+
   // The "forward" half of the neighbours of a particle i in cell c: the particles after i in its own
   // cell and those of the adjacent cells that come later in the cell order. Over all i, every pair of
   // particles in adjacent cells is visited exactly once, from its first particle. Cells are numbered

@@ -504,7 +504,7 @@ RateSummary compute_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const Ke
 // to fluid particles for which `select(i)` is true. `out` is scratch of size n.
 template <int Dim, class Kernel, class Select>
 void shepard_filter(Particles<Dim>& p, const CellGrid<Dim>& grid, const Kernel& kernel, double mass,
-                    std::vector<double>& out, int threads, Select select, bool portable = false) {
+                    std::vector<double>& out, int threads, Select select, [[maybe_unused]] bool portable = false) {
   const long n = static_cast<long>(p.size());
   const double support2 = Kernel::support * Kernel::support * kernel.h * kernel.h;
   const auto& cell_of = grid.cell_of();

@@ -176,6 +176,10 @@ std::string tick_label(double value, double step) {
 // Frames and ranges
 
 FrameData extract(const Frame& frame, Field field) {
+  if (frame.dimension != 2)
+    throw RenderError(fmt::format("the frame at t = {} s is {}D; sluice render draws 2D runs (pictures of 3D runs "
+                                  "are not implemented yet: open the .pvd in ParaView)",
+                                  frame.time, frame.dimension));
   const FieldInfo& info = field_info(field);
   const std::size_t n = frame.size();
   FrameData d;

@@ -1,0 +1,42 @@
+// The one interface of every shape that bounds water or walls: an inside test, the signed distance
+// and the closest surface point with its outward normal (leak detection and put-back, water placement),
+// and filling with wall particles. Behind it: polygons in 2D (geometry/polygon.hpp) and boxes in 2D
+// and 3D (geometry/box.hpp).
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "sluice/core/vec.hpp"
+
+namespace sluice {
+
+template <int Dim>
+struct SurfacePoint {
+  Vec<Dim> point{};
+  Vec<Dim> normal{};  // unit, pointing out of the solid
+};
+
+template <int Dim>
+class Solid {
+ public:
+  virtual ~Solid() = default;
+
+  // Strictly inside.
+  [[nodiscard]] virtual bool contains(const Vec<Dim>& x) const = 0;
+  // Distance to the surface, negative inside.
+  [[nodiscard]] virtual double signed_distance(const Vec<Dim>& x) const = 0;
+  [[nodiscard]] virtual SurfacePoint<Dim> closest_surface_point(const Vec<Dim>& x) const = 0;
+  // Bounding box.
+  [[nodiscard]] virtual Vec<Dim> lower() const = 0;
+  [[nodiscard]] virtual Vec<Dim> upper() const = 0;
+  // Calls add(x) for the wall particles of the solid: points inside it, in `layers` layers spaced dx
+  // below its surface (the first at dx/2), about dx apart along it.
+  virtual void fill_surface_layers(double dx, int layers, const std::function<void(const Vec<Dim>&)>& add) const = 0;
+};
+
+template <int Dim>
+using Solids = std::vector<std::shared_ptr<const Solid<Dim>>>;
+
+}  // namespace sluice

@@ -1,0 +1,255 @@
+#include "sluice/solver/solver.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "sluice/core/parallel.hpp"
+#include "sluice/geometry/leaks.hpp"
+#include "sluice/geometry/setup.hpp"
+#include "sluice/integrate/integrators.hpp"
+#include "sluice/physics/wall_boundary.hpp"
+
+namespace sluice {
+
+template <int Dim>
+Solver<Dim>::Solver(const Case& c, int threads) : threads_(std::max(1, threads)) {
+  Setup<Dim> s = build_setup<Dim>(c);
+  particles_ = std::move(s.particles);
+  particles_.resize(particles_.size());  // size the rate and step-start fields
+  solids_ = std::move(s.solids);
+  removed_near_coincident_ = s.removed_near_coincident;
+  init(c);
+}
+
+template <int Dim>
+Solver<Dim>::Solver(const Case& c, Particles<Dim> particles, Clock clock, int threads)
+    : particles_(std::move(particles)), clock_(clock), threads_(std::max(1, threads)) {
+  // The wall geometry is rebuilt from the case; the particles come from the saved state.
+  solids_ = build_setup<Dim>(c).solids;
+  init(c);
+}
+
+template <int Dim>
+void Solver<Dim>::init(const Case& c) {
+  case_ = c;
+  const double h = c.smoothing_length();
+  settings_.mass = c.rest_density;
+  for (int d = 0; d < Dim; ++d) settings_.mass *= c.dx;  // rho0 dx^Dim
+  settings_.h = h;
+  settings_.viscosity = c.viscosity;
+  settings_.alpha = c.artificial_viscosity;
+  settings_.wall_alpha_factor = c.wall_boundary == WallBoundary::adami ? 0.0 : 1.0;  // Adami walls: free slip
+  settings_.artificial_pressure = c.artificial_pressure;
+  settings_.artificial_pressure_exponent = c.artificial_pressure_exponent;
+  settings_.spacing = c.dx;
+  settings_.delta = c.density_diffusion;
+  settings_.gravity = first<Dim>(c.gravity);
+  settings_.eos = TaitEos{c.rest_density, c.sound_speed, c.gamma};
+  if (c.kernel == KernelType::wendland_c2) kernel_ = WendlandC2<Dim>(h);
+  else kernel_ = CubicSpline<Dim>(h);
+  // The grid covers the tank and its walls with a margin; strays are clamped into edge cells.
+  const int layers = wall_layers(c);
+  const double margin = (layers + 2) * c.dx + 2.0 * h;
+  const Vec3 size = c.tank_size();
+  Vec<Dim> lower{}, upper{};
+  for (int d = 0; d < Dim; ++d) {
+    lower[d] = -margin;
+    upper[d] = size[d] + margin;
+  }
+  grid_ = CellGrid<Dim>(lower, upper, 2.0 * h);
+}
+
+template <int Dim>
+RateSummary Solver<Dim>::evaluate(bool shepard_due, bool mid_step) {
+  grid_.bin(particles_.position, threads_);
+  particles_.permute(grid_.order(), scratch_, mid_step, threads_);
+  grid_binned_ = true;
+  const bool repair_due = std::any_of(particles_.needs_density_repair.begin(), particles_.needs_density_repair.end(),
+                                      [](std::uint8_t f) { return f != 0; });
+  const bool adami_walls = case_.wall_boundary == WallBoundary::adami;
+  return std::visit(
+      [&](const auto& kernel) {
+        if (shepard_due || repair_due) {
+          const auto& repair = particles_.needs_density_repair;
+          shepard_filter(particles_, grid_, kernel, settings_.mass, scratch_, threads_,
+                         [&](std::size_t i) { return shepard_due || repair[i] != 0; });
+          std::fill(particles_.needs_density_repair.begin(), particles_.needs_density_repair.end(), 0);
+        }
+        // Adami walls: the wall pressure (density) is extrapolated from the fluid just before the pair
+        // loop, and not integrated (the wall density rates are zeroed).
+        if (adami_walls)
+          extrapolate_wall_density(particles_, grid_, kernel, settings_.eos, settings_.gravity, threads_);
+        terms_.compute(particles_, settings_.eos, threads_, settings_.artificial_pressure);
+        using K = std::decay_t<decltype(kernel)>;
+        const RateSummary summary =
+            settings_.artificial_pressure > 0.0
+                ? compute_rates<Dim, K, true>(particles_, grid_, kernel, settings_, terms_, threads_)
+                : compute_rates<Dim, K, false>(particles_, grid_, kernel, settings_, terms_, threads_);
+        if (adami_walls) {
+          const long n = static_cast<long>(particles_.size());
+          for (long i = 0; i < n; ++i)
+            if (!particles_.is_fluid(static_cast<std::size_t>(i))) particles_.density_rate[i] = 0.0;
+        }
+        return summary;
+      },
+      kernel_);
+}
+
+template <int Dim>
+double Solver<Dim>::choose_dt(const RateSummary& r) const {
+  if (case_.fixed_dt > 0.0) return case_.fixed_dt;
+  const double h = settings_.h;
+  const TaitEos& eos = settings_.eos;
+  const double max_sound_speed = eos.local_sound_speed(std::max(r.max_density, eos.rest_density));
+  double dt = h / max_sound_speed;
+  if (r.max_relative_speed > 0.0) dt = std::min(dt, h / r.max_relative_speed);
+  if (r.max_acceleration > 0.0) dt = std::min(dt, std::sqrt(h / r.max_acceleration));
+  return case_.cfl * dt;
+}
+
+template <int Dim>
+void Solver<Dim>::step(double time_limit) {
+  const bool shepard_due = case_.shepard_every > 0 && clock_.step > 0 && clock_.step % case_.shepard_every == 0;
+  has_saved_state_ = false;
+  const RateSummary rates = evaluate(shepard_due, false);
+  min_particle_distance_ = rates.min_fluid_distance;
+  saved_clock_ = clock_;
+  double dt = choose_dt(rates);
+  if (!(dt > 0.0) || !std::isfinite(dt))
+    throw std::runtime_error(fmt::format("time step {} at t = {} s is not a positive finite number", dt, clock_.time));
+  // Land exactly on the limit (an output time) rather than step past it.
+  const bool reaches_limit = clock_.time + dt >= time_limit;
+  if (reaches_limit) dt = time_limit - clock_.time;
+  const double floor = settings_.eos.rest_density;
+  if (case_.integrator == Integrator::predictor_corrector) {
+    predictor_update(particles_, dt, floor, threads_);
+    has_saved_state_ = true;
+    evaluate(false, true);
+    corrector_update(particles_, dt, floor, threads_);
+  } else {
+    particles_.position_start = particles_.position;
+    particles_.velocity_start = particles_.velocity;
+    particles_.density_start = particles_.density;
+    has_saved_state_ = true;
+    euler_update(particles_, dt, floor, threads_);
+  }
+  clock_.leaks += static_cast<std::int64_t>(put_back_leaked(particles_, solids_, case_.dx, threads_));
+  clock_.time = reaches_limit ? time_limit : clock_.time + dt;
+  clock_.last_dt = dt;
+  ++clock_.step;
+}
+
+template <int Dim>
+Diagnostics Solver<Dim>::diagnostics() const {
+  Diagnostics d;
+  d.time = clock_.time;
+  d.step = clock_.step;
+  d.dt = clock_.last_dt;
+  d.leaks = clock_.leaks;
+  d.min_density = std::numeric_limits<double>::infinity();
+  d.max_density = -std::numeric_limits<double>::infinity();
+  const double m = settings_.mass;
+  const Particles<Dim>& p = particles_;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double rho = p.density[i];
+    d.min_density = std::min(d.min_density, rho);
+    d.max_density = std::max(d.max_density, rho);
+    bool finite = std::isfinite(rho);
+    if (!p.is_fluid(i)) {
+      ++d.wall_particles;
+      d.all_finite = d.all_finite && finite;
+      continue;
+    }
+    ++d.fluid_particles;
+    double v2 = 0.0, g_dot_x = 0.0;
+    for (int k = 0; k < Dim; ++k) {
+      v2 += p.velocity[k][i] * p.velocity[k][i];
+      g_dot_x += settings_.gravity[k] * p.position[k][i];
+      finite = finite && std::isfinite(p.position[k][i]) && std::isfinite(p.velocity[k][i]);
+    }
+    d.all_finite = d.all_finite && finite;
+    d.max_speed = std::max(d.max_speed, std::sqrt(v2));
+    d.kinetic_energy += 0.5 * m * v2;
+    d.potential_energy -= m * g_dot_x;
+  }
+  d.total_mass = m * static_cast<double>(d.fluid_particles);
+  d.min_particle_distance = min_particle_distance_;
+  return d;
+}
+
+template <int Dim>
+Health Solver<Dim>::check_health(std::size_t max_reported) const {
+  constexpr int up = Dim - 1;
+  const Particles<Dim>& p = particles_;
+  const double rho0 = settings_.eos.rest_density;
+  const double reach = wall_layers(case_) * case_.dx + 4.0 * settings_.h;
+  const Vec3 size = case_.tank_size();
+  const double top = size[up] + (case_.tank_lid ? reach : std::max(size[up], reach));
+  auto problem = [&](std::size_t i) -> const char* {
+    bool finite = std::isfinite(p.density[i]);
+    for (int d = 0; d < Dim; ++d) finite = finite && std::isfinite(p.position[d][i]) && std::isfinite(p.velocity[d][i]);
+    if (!finite) return "not finite";
+    for (int d = 0; d < up; ++d)
+      if (p.position[d][i] < -reach || p.position[d][i] > size[d] + reach) return "far outside the tank";
+    if (p.position[up][i] < -reach || p.position[up][i] > top) return "far outside the tank";
+    const double rho = p.density[i];
+    if (!(rho > 0.5 * rho0 && rho < 2.0 * rho0)) return "density outside (0.5, 2) rho0";
+    return nullptr;
+  };
+  const long n = static_cast<long>(p.size());
+  long bad = 0;
+#pragma omp parallel for num_threads(threads_) schedule(static) reduction(+ : bad) if (n >= light_loop_parallel_threshold)
+  for (long i = 0; i < n; ++i) bad += problem(static_cast<std::size_t>(i)) != nullptr;
+  Health health;
+  health.offending = static_cast<std::size_t>(bad);
+  if (bad == 0) return health;
+  std::vector<std::size_t> rows;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (problem(i) != nullptr) rows.push_back(i);
+  std::sort(rows.begin(), rows.end(), [&](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
+  const double support2 = 4.0 * settings_.h * settings_.h;
+  for (std::size_t k = 0; k < rows.size() && k < max_reported; ++k) {
+    const std::size_t i = rows[k];
+    Offender o;
+    o.id = p.id[i];
+    o.dimension = Dim;
+    for (int d = 0; d < Dim; ++d) {
+      o.position[d] = p.position[d][i];
+      o.velocity[d] = p.velocity[d][i];
+    }
+    o.density = p.density[i];
+    o.reason = problem(i);
+    for (std::size_t j = 0; j < p.size(); ++j) {
+      double r2 = 0.0;
+      for (int d = 0; d < Dim; ++d) {
+        const double delta = p.position[d][i] - p.position[d][j];
+        r2 += delta * delta;
+      }
+      if (j != i && r2 < support2) ++o.neighbours;
+    }
+    health.first.push_back(o);
+  }
+  return health;
+}
+
+// The state at the start of the step (after the reordering of its first evaluation) lives in the
+// step-start arrays, which the predictor-corrector fills anyway; forward Euler does not use them, so
+// step() fills them there too. No extra memory; restore_saved_state() copies them back.
+template <int Dim>
+void Solver<Dim>::restore_saved_state() {
+  if (!has_saved_state_) return;
+  Particles<Dim>& p = particles_;
+  p.position = p.position_start;
+  p.velocity = p.velocity_start;
+  p.density = p.density_start;
+  std::fill(p.needs_density_repair.begin(), p.needs_density_repair.end(), 0);
+  clock_ = saved_clock_;
+}
+
+template class Solver<2>;
+template class Solver<3>;
+
+}  // namespace sluice

@@ -1,0 +1,143 @@
+// The solver in Dim dimensions: particles, their neighbour grid, the physics settings and the clock.
+// A Solver is a value: two of them can live side by side (no global state). Simulation
+// (simulation.hpp) holds a Solver<2> or a Solver<3>, as the case says.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "sluice/case/case.hpp"
+#include "sluice/core/particles.hpp"
+#include "sluice/geometry/solid.hpp"
+#include "sluice/neighbors/cell_grid.hpp"
+#include "sluice/physics/kernel.hpp"
+#include "sluice/physics/rates.hpp"
+
+namespace sluice {
+
+// Everything besides the particles that a restart needs to continue exactly.
+struct Clock {
+  double time = 0.0;
+  std::int64_t step = 0;
+  double last_dt = 0.0;
+  std::int64_t leaks = 0;  // fluid particles put back from inside a wall, summed over the run
+};
+
+struct Diagnostics {
+  double time = 0.0;
+  std::int64_t step = 0;
+  double dt = 0.0;
+  std::size_t fluid_particles = 0;
+  std::size_t wall_particles = 0;
+  double max_speed = 0.0;        // fluid
+  double min_density = 0.0;      // all particles
+  double max_density = 0.0;      // all particles
+  double kinetic_energy = 0.0;   // fluid; J per metre of depth in 2D
+  double potential_energy = 0.0; // fluid, relative to the origin: -m g . x
+  double total_mass = 0.0;       // fluid
+  std::int64_t leaks = 0;
+  bool all_finite = true;
+  double min_particle_distance = 0.0;  // fluid to any particle, at the last step's first evaluation (NaN before)
+};
+
+// A particle that makes a run unusable: non-finite, far outside the tank, or at an absurd density.
+struct Offender {
+  std::uint32_t id = 0;
+  int dimension = 2;
+  Vec3 position{};
+  Vec3 velocity{};
+  double density = 0.0;
+  int neighbours = 0;  // particles within the kernel support
+  std::string reason;
+};
+
+struct Health {
+  std::size_t offending = 0;       // how many particles are bad
+  std::vector<Offender> first;     // the first few, in id order
+  [[nodiscard]] bool ok() const { return offending == 0; }
+};
+
+template <int Dim>
+class Solver {
+ public:
+  using KernelVariant = std::variant<CubicSpline<Dim>, WendlandC2<Dim>>;
+
+  // Builds the particles of a case (setup) and starts at t = 0.
+  Solver(const Case& c, int threads);
+  // Continues from a saved state (restart).
+  Solver(const Case& c, Particles<Dim> particles, Clock clock, int threads);
+
+  // Advances one time step; a step that would pass time_limit ends exactly on it.
+  void step(double time_limit);
+
+  [[nodiscard]] const Particles<Dim>& particles() const { return particles_; }
+  [[nodiscard]] const Clock& clock() const { return clock_; }
+  [[nodiscard]] const Case& config() const { return case_; }
+  [[nodiscard]] const Solids<Dim>& solids() const { return solids_; }
+  [[nodiscard]] const KernelVariant& kernel() const { return kernel_; }
+  [[nodiscard]] double particle_mass() const { return settings_.mass; }
+  [[nodiscard]] double smoothing_length() const { return settings_.h; }
+  [[nodiscard]] const TaitEos& eos() const { return settings_.eos; }
+  [[nodiscard]] std::size_t removed_near_coincident() const { return removed_near_coincident_; }
+  [[nodiscard]] int force_evaluations_per_step() const {
+    return case_.integrator == Integrator::predictor_corrector ? 2 : 1;
+  }
+  [[nodiscard]] int threads() const { return threads_; }
+  [[nodiscard]] Diagnostics diagnostics() const;
+
+  // Calls f(begin, end) for ranges of particle indices, in increasing order, that hold every particle
+  // inside the box [lower, upper] (and others: the caller checks positions). Uses the cell grid of the
+  // last force evaluation, whose cells the particles have left by less than a cell since (a step moves
+  // a particle by less than h); before the first evaluation, all particles.
+  template <class F>
+  void for_each_range_in_box(Vec<Dim> lower, Vec<Dim> upper, F&& f) const {
+    if (!grid_binned_) {
+      f(std::uint32_t{0}, static_cast<std::uint32_t>(particles_.size()));
+      return;
+    }
+    for (int d = 0; d < Dim; ++d) {
+      lower[d] -= grid_.cell_size();
+      upper[d] += grid_.cell_size();
+    }
+    grid_.for_each_range_in_box(lower, upper, f);
+  }
+
+  // The instability guard: every particle finite, within the tank's reach (its walls plus a margin
+  // of the tank size above an open tank), and 0.5 rho0 < rho < 2 rho0.
+  [[nodiscard]] Health check_health(std::size_t max_reported) const;
+
+  // Returns to the state at the start of the last step (if it got far enough to change anything),
+  // for the instability guard.
+  void restore_saved_state();
+
+ private:
+  void init(const Case& c);
+  // Rebuilds the neighbour grid (reordering the particles by cell), applies the Shepard filter when
+  // due and any pending density repairs, and computes the rates.
+  RateSummary evaluate(bool shepard_due, bool mid_step);
+  double choose_dt(const RateSummary& r) const;
+
+  Case case_;
+  Particles<Dim> particles_;
+  Solids<Dim> solids_;
+  CellGrid<Dim> grid_;
+  bool grid_binned_ = false;
+  KernelVariant kernel_{CubicSpline<Dim>(1.0)};
+  RateSettings<Dim> settings_{};
+  ParticleTerms terms_;
+  std::vector<double> scratch_;
+  Clock clock_;
+  double min_particle_distance_ = std::numeric_limits<double>::quiet_NaN();  // unknown before the first step
+  Clock saved_clock_;
+  bool has_saved_state_ = false;
+  int threads_ = 1;
+  std::size_t removed_near_coincident_ = 0;
+};
+
+extern template class Solver<2>;
+extern template class Solver<3>;
+
+}  // namespace sluice
