@@ -133,8 +133,9 @@ def temp_files(directory):
                   for root, _, names in os.walk(directory) for n in names if TEMP_NAME.search(n))
 
 
-def load_npz(path):
-    """numpy.load with no pickle and no custom code; checks names, dtypes and shapes."""
+def load_npz(path, dimension=2):
+    """numpy.load with no pickle and no custom code; checks names, dtypes and shapes (positions and
+    velocities N x dimension)."""
     with np.load(path, allow_pickle=False) as data:
         arrays = {name: data[name] for name in data.files}
     check(sorted(arrays) == sorted(NPZ_ARRAYS), f"{path}: arrays {sorted(arrays)}")
@@ -142,7 +143,7 @@ def load_npz(path):
     for name, (dtype, shape) in NPZ_ARRAYS.items():
         a = arrays[name]
         check(a.dtype == np.dtype(dtype), f"{path}: {name} has dtype {a.dtype}, expected {dtype}")
-        expected = tuple(n if s == "N" else s for s in shape)
+        expected = tuple(n if s == "N" else (dimension if s == 2 else s) for s in shape)
         check(a.shape == expected, f"{path}: {name} has shape {a.shape}, expected {expected}")
     return arrays
 
@@ -198,14 +199,14 @@ def checkpoint_without_wall_time(data):
     return data[:wall] + data[wall + 8:-4]
 
 
-def check_outputs_readable(directory):
+def check_outputs_readable(directory, dimension=2):
     """Every file under a final name in a run's directory is complete and readable by its reader.
     Returns the final file names."""
     names = final_files(directory)
     for name in names:
         path = os.path.join(directory, name)
         if name.endswith(".npz"):
-            load_npz(path)
+            load_npz(path, dimension)
         elif name.endswith(".vtu"):
             load_vtu(path)
         elif name.endswith(".pvd"):
