@@ -61,8 +61,8 @@ NPZ_ARRAYS = {  # name -> (dtype, shape with N for the particle count)
     "t": ("<f8", ()),
     "step": ("<i8", ()),
     "dx": ("<f8", ()),
-    "x": ("<f8", ("N", 2)),
-    "v": ("<f8", ("N", 2)),
+    "x": ("<f8", ("N", "D")),  # D: the run's dimension
+    "v": ("<f8", ("N", "D")),
     "rho": ("<f8", ("N",)),
     "p": ("<f8", ("N",)),
     "kind": ("|u1", ("N",)),
@@ -143,7 +143,7 @@ def load_npz(path, dimension=2):
     for name, (dtype, shape) in NPZ_ARRAYS.items():
         a = arrays[name]
         check(a.dtype == np.dtype(dtype), f"{path}: {name} has dtype {a.dtype}, expected {dtype}")
-        expected = tuple(n if s == "N" else (dimension if s == 2 else s) for s in shape)
+        expected = tuple({"N": n, "D": dimension}.get(s, s) for s in shape)
         check(a.shape == expected, f"{path}: {name} has shape {a.shape}, expected {expected}")
     return arrays
 

@@ -110,8 +110,6 @@ struct Case {
   [[nodiscard]] Vec3 tank_size() const {
     return dimension == 3 ? Vec3{tank_width, tank_depth, tank_height} : Vec3{tank_width, tank_height, 0.0};
   }
-  // Volume of one particle: dx^dimension.
-  [[nodiscard]] double particle_volume() const { return dimension == 3 ? dx * dx * dx : dx * dx; }
   [[nodiscard]] bool writes(std::string_view format) const {
     for (const auto& f : output_formats)
       if (f == format) return true;

@@ -268,6 +268,13 @@ std::string quote(const std::string& s) {
   return out + "\"";
 }
 
+// The first `dimension` components, as a TOML array.
+std::string format_vector(const Vec3& v, int dimension) {
+  std::vector<std::string> components;
+  for (int d = 0; d < dimension; ++d) components.push_back(format_number(v[d]));
+  return fmt::format("[{}]", fmt::join(components, ", "));
+}
+
 std::string format_value(const ParamValue& v, int dimension) {
   return std::visit(
       [dimension](const auto& x) -> std::string {
@@ -277,11 +284,7 @@ std::string format_value(const ParamValue& v, int dimension) {
         else if constexpr (std::is_same_v<T, int>) return fmt::format("{}", x);
         else if constexpr (std::is_same_v<T, bool>) return x ? "true" : "false";
         else if constexpr (std::is_same_v<T, std::string>) return quote(x);
-        else if constexpr (std::is_same_v<T, Vec3>) {
-          std::vector<std::string> components;
-          for (int d = 0; d < dimension; ++d) components.push_back(format_number(x[d]));
-          return fmt::format("[{}]", fmt::join(components, ", "));
-        }
+        else if constexpr (std::is_same_v<T, Vec3>) return format_vector(x, dimension);
         else if constexpr (std::is_same_v<T, std::vector<Vec2>>) {
           std::vector<std::string> pairs;
           for (const Vec2& q : x) pairs.push_back(fmt::format("[{}, {}]", format_number(q[0]), format_number(q[1])));
@@ -316,27 +319,27 @@ std::string expectation(const Param<Owner>& p, int dimension) {
         if constexpr (std::is_same_v<decltype(member), ChoiceField<Owner>>) {
           return fmt::format("one of \"{}\"", fmt::join(p.choices, "\", \""));
         } else {
-        using T = std::remove_reference_t<decltype(std::declval<Owner&>().*member)>;
-        if constexpr (std::is_same_v<T, double>) {
-          if (!ranged) return "a number" + unit;
-          if (p.upper >= 1e299) return fmt::format("a number >= {}{}", p.lower, unit);
-          return fmt::format("a number from {} to {}{}", p.lower, p.upper, unit);
-        } else if constexpr (std::is_same_v<T, int>) {
-          if (!ranged) return "an integer" + unit;
-          if (p.upper >= 1e8) return fmt::format("an integer >= {}{}", p.lower, unit);
-          return fmt::format("an integer from {} to {}{}", p.lower, p.upper, unit);
-        } else if constexpr (std::is_same_v<T, bool>) {
-          return "true or false";
-        } else if constexpr (std::is_same_v<T, std::string>) {
-          if (p.choices.empty()) return "a string in quotes";
-          return fmt::format("one of \"{}\"", fmt::join(p.choices, "\", \""));
-        } else if constexpr (std::is_same_v<T, Vec3>) {
-          return (dimension == 3 ? "an array of three numbers [x, y, z]" : "an array of two numbers [x, y]") + unit;
-        } else if constexpr (std::is_same_v<T, std::vector<Vec2>>) {
-          return "an array of points [[x, y], ...]" + unit;
-        } else {
-          return fmt::format("an array of strings, each one of \"{}\"", fmt::join(p.choices, "\", \""));
-        }
+          using T = std::remove_reference_t<decltype(std::declval<Owner&>().*member)>;
+          if constexpr (std::is_same_v<T, double>) {
+            if (!ranged) return "a number" + unit;
+            if (p.upper >= 1e299) return fmt::format("a number >= {}{}", p.lower, unit);
+            return fmt::format("a number from {} to {}{}", p.lower, p.upper, unit);
+          } else if constexpr (std::is_same_v<T, int>) {
+            if (!ranged) return "an integer" + unit;
+            if (p.upper >= 1e8) return fmt::format("an integer >= {}{}", p.lower, unit);
+            return fmt::format("an integer from {} to {}{}", p.lower, p.upper, unit);
+          } else if constexpr (std::is_same_v<T, bool>) {
+            return "true or false";
+          } else if constexpr (std::is_same_v<T, std::string>) {
+            if (p.choices.empty()) return "a string in quotes";
+            return fmt::format("one of \"{}\"", fmt::join(p.choices, "\", \""));
+          } else if constexpr (std::is_same_v<T, Vec3>) {
+            return (dimension == 3 ? "an array of three numbers [x, y, z]" : "an array of two numbers [x, y]") + unit;
+          } else if constexpr (std::is_same_v<T, std::vector<Vec2>>) {
+            return "an array of points [[x, y], ...]" + unit;
+          } else {
+            return fmt::format("an array of strings, each one of \"{}\"", fmt::join(p.choices, "\", \""));
+          }
         }
       },
       p.field);
@@ -399,69 +402,69 @@ void assign(Owner& o, const Param<Owner>& p, const toml::node& n, const std::str
         if constexpr (std::is_same_v<decltype(member), ChoiceField<Owner>>) {
           member.set(o, choice_index(p, choose(p.choices)));
         } else {
-        using T = std::remove_reference_t<decltype(o.*member)>;
-        if constexpr (std::is_same_v<T, double>) {
-          auto v = as_number(n);
-          if (!v) fail_value(at, key, n, "wrong type", expected);
-          check_range(*v);
-          o.*member = *v;
-        } else if constexpr (std::is_same_v<T, int>) {
-          if (!n.is_integer()) fail_value(at, key, n, "wrong type", expected);
-          const auto v = n.as_integer()->get();
-          if (v < -2147483647LL || v > 2147483647LL) fail_value(at, key, n, "out of range", expected);
-          check_range(static_cast<double>(v));
-          o.*member = static_cast<int>(v);
-        } else if constexpr (std::is_same_v<T, bool>) {
-          if (!n.is_boolean()) fail_value(at, key, n, "wrong type", expected);
-          o.*member = n.as_boolean()->get();
-        } else if constexpr (std::is_same_v<T, std::string>) {
-          o.*member = choose(p.choices);
-        } else if constexpr (std::is_same_v<T, Vec3>) {
-          const toml::array* a = n.as_array();
-          if (a == nullptr) fail_value(at, key, n, "wrong type", expected);
-          if (a->size() != static_cast<std::size_t>(dimension))
-            fail_value(at, key, n,
-                       fmt::format("wrong type ({} component{} in a {}D case, domain.dimension = {})", a->size(),
-                                   a->size() == 1 ? "" : "s", dimension, dimension),
-                       expected);
-          Vec3 v{};
-          for (int d = 0; d < dimension; ++d) {
-            auto x = as_number(*a->get(static_cast<std::size_t>(d)));
-            if (!x || !std::isfinite(*x)) fail_value(at, key, n, "wrong type", expected);
-            v[d] = *x;
-          }
-          o.*member = v;
-        } else if constexpr (std::is_same_v<T, std::vector<Vec2>>) {
-          const toml::array* a = n.as_array();
-          if (a == nullptr) fail_value(at, key, n, "wrong type", expected);
-          std::vector<Vec2> v;
-          for (const auto& item : *a) {
-            const toml::array* q = item.as_array();
-            if (q == nullptr || q->size() != 2) fail_value(at, key, n, "wrong type", expected);
-            Vec2 point{};
-            for (int d = 0; d < 2; ++d) {
-              auto x = as_number(*q->get(static_cast<std::size_t>(d)));
+          using T = std::remove_reference_t<decltype(o.*member)>;
+          if constexpr (std::is_same_v<T, double>) {
+            auto v = as_number(n);
+            if (!v) fail_value(at, key, n, "wrong type", expected);
+            check_range(*v);
+            o.*member = *v;
+          } else if constexpr (std::is_same_v<T, int>) {
+            if (!n.is_integer()) fail_value(at, key, n, "wrong type", expected);
+            const auto v = n.as_integer()->get();
+            if (v < -2147483647LL || v > 2147483647LL) fail_value(at, key, n, "out of range", expected);
+            check_range(static_cast<double>(v));
+            o.*member = static_cast<int>(v);
+          } else if constexpr (std::is_same_v<T, bool>) {
+            if (!n.is_boolean()) fail_value(at, key, n, "wrong type", expected);
+            o.*member = n.as_boolean()->get();
+          } else if constexpr (std::is_same_v<T, std::string>) {
+            o.*member = choose(p.choices);
+          } else if constexpr (std::is_same_v<T, Vec3>) {
+            const toml::array* a = n.as_array();
+            if (a == nullptr) fail_value(at, key, n, "wrong type", expected);
+            if (a->size() != static_cast<std::size_t>(dimension))
+              fail_value(at, key, n,
+                         fmt::format("wrong type ({} component{} in a {}D case, domain.dimension = {})", a->size(),
+                                     a->size() == 1 ? "" : "s", dimension, dimension),
+                         expected);
+            Vec3 v{};
+            for (int d = 0; d < dimension; ++d) {
+              auto x = as_number(*a->get(static_cast<std::size_t>(d)));
               if (!x || !std::isfinite(*x)) fail_value(at, key, n, "wrong type", expected);
-              point[d] = *x;
+              v[d] = *x;
             }
-            v.push_back(point);
+            o.*member = v;
+          } else if constexpr (std::is_same_v<T, std::vector<Vec2>>) {
+            const toml::array* a = n.as_array();
+            if (a == nullptr) fail_value(at, key, n, "wrong type", expected);
+            std::vector<Vec2> v;
+            for (const auto& item : *a) {
+              const toml::array* q = item.as_array();
+              if (q == nullptr || q->size() != 2) fail_value(at, key, n, "wrong type", expected);
+              Vec2 point{};
+              for (int d = 0; d < 2; ++d) {
+                auto x = as_number(*q->get(static_cast<std::size_t>(d)));
+                if (!x || !std::isfinite(*x)) fail_value(at, key, n, "wrong type", expected);
+                point[d] = *x;
+              }
+              v.push_back(point);
+            }
+            o.*member = std::move(v);
+          } else {
+            const toml::array* a = n.as_array();
+            if (a == nullptr) fail_value(at, key, n, "wrong type", expected);
+            std::vector<std::string> v;
+            for (const auto& item : *a) {
+              if (!item.is_string()) fail_value(at, key, n, "wrong type", expected);
+              const std::string s = item.as_string()->get();
+              if (std::find(p.choices.begin(), p.choices.end(), s) == p.choices.end())
+                fail_value(at, key, n, fmt::format("unknown entry \"{}\"", s), expected);
+              if (std::find(v.begin(), v.end(), s) != v.end())
+                fail_value(at, key, n, fmt::format("\"{}\" listed twice", s), expected);
+              v.push_back(s);
+            }
+            o.*member = std::move(v);
           }
-          o.*member = std::move(v);
-        } else {
-          const toml::array* a = n.as_array();
-          if (a == nullptr) fail_value(at, key, n, "wrong type", expected);
-          std::vector<std::string> v;
-          for (const auto& item : *a) {
-            if (!item.is_string()) fail_value(at, key, n, "wrong type", expected);
-            const std::string s = item.as_string()->get();
-            if (std::find(p.choices.begin(), p.choices.end(), s) == p.choices.end())
-              fail_value(at, key, n, fmt::format("unknown entry \"{}\"", s), expected);
-            if (std::find(v.begin(), v.end(), s) != v.end())
-              fail_value(at, key, n, fmt::format("\"{}\" listed twice", s), expected);
-            v.push_back(s);
-          }
-          o.*member = std::move(v);
-        }
         }
       },
       p.field);
@@ -750,7 +753,7 @@ void validate_case(const Case& c, const std::string& source) {
       for (int d = 0; d < dim; ++d)
         if (!(r.min[d] < r.max[d]))
           fail(fmt::format("[[{}]] number {}: min {} must be below max {} in every component (a box needs both)",
-                           what, i + 1, format_value(r.min, dim), format_value(r.max, dim)));
+                           what, i + 1, format_vector(r.min, dim), format_vector(r.max, dim)));
       return {r.min, r.max};
     }
     if (dim != 2)
@@ -779,7 +782,7 @@ void validate_case(const Case& c, const std::string& source) {
     for (int d = 0; d < dim; ++d)
       if (lo[d] < -tol || hi[d] > tank[d] + tol)
         fail(fmt::format("[[water]] number {} (from {} to {}) reaches outside the tank {}", i + 1,
-                         format_value(lo, dim), format_value(hi, dim), fmt::join(extent, " x ")));
+                         format_vector(lo, dim), format_vector(hi, dim), fmt::join(extent, " x ")));
   }
   for (std::size_t i = 0; i < c.walls.size(); ++i) check_region(c.walls[i], "wall", i);
   std::set<std::string> names;
@@ -789,7 +792,7 @@ void validate_case(const Case& c, const std::string& source) {
       fail(fmt::format("[[probe]] number {}: name \"{}\" must be non-empty, without spaces or slashes", i + 1, p.name));
     if (!names.insert(p.name).second) fail(fmt::format("[[probe]] name \"{}\" is used twice", p.name));
     if (p.type == ProbeType::front && norm(p.direction) == 0.0)
-      fail(fmt::format("[[probe]] \"{}\": direction must not be {}", p.name, format_value(Vec3{}, dim)));
+      fail(fmt::format("[[probe]] \"{}\": direction must not be {}", p.name, format_vector(p.direction, dim)));
   }
   if (c.output_formats.empty()) fail("output.formats is empty; expected at least one of \"vtk\", \"npz\"");
   const double max_points = 5e8;

@@ -46,7 +46,7 @@ struct Param {
   double upper = -1.0;
   std::vector<std::string> choices;  // allowed strings (empty: any); a ChoiceField's names in enum order
   std::string description;
-  ParamValue default_3d;     // the default in a 3D case where it differs (gravity along -z); else monostate
+  ParamValue default_3d{};   // the default in a 3D case where it differs (gravity along -z); else monostate
   bool only_3d = false;      // a key of 3D cases (tank.depth): refused in a 2D case
   // For keys of an item that only some items use (a box's min/max, a polygon's points): whether the
   // key applies to this item. Keys that do not apply are left out of the template.

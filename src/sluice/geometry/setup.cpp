@@ -83,10 +83,6 @@ void add_tank(Setup<Dim>& s, const Case& c) {
     hi[up] = height + depth;
     add_slab(axes, lo, hi);
   }
-  s.domain_lower = full_lo;
-  s.domain_upper = full_hi;
-  s.domain_lower[up] = -depth;
-  s.domain_upper[up] = height + depth;
 }
 
 // Water on the lattice (i + 1/2) dx inside the region, outside every solid and at least dx/2 from

@@ -16,8 +16,6 @@ template <int Dim>
 struct Setup {
   Particles<Dim> particles;
   Solids<Dim> solids;  // wall geometry, for leak detection
-  Vec<Dim> domain_lower{};  // bounding box of the walls
-  Vec<Dim> domain_upper{};
   std::size_t removed_near_coincident = 0;
 };
 

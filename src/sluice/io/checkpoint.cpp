@@ -71,10 +71,30 @@ class Reader {
 // Element type codes of the field table.
 template <class T>
 constexpr std::uint8_t element_code() {
+  static_assert(std::is_same_v<T, double> || sizeof(T) == 1 || std::is_same_v<T, std::uint32_t>);
   if constexpr (std::is_same_v<T, double>) return 1;
   else if constexpr (sizeof(T) == 1) return 2;  // std::uint8_t and Kind
   else return 3;                                // std::uint32_t
-  static_assert(std::is_same_v<T, double> || sizeof(T) == 1 || std::is_same_v<T, std::uint32_t>);
+}
+
+// A field's element type code and number of components, as the field table records them.
+struct FieldLayout {
+  std::uint8_t code = 0;
+  std::uint8_t components = 0;
+};
+
+template <class Field>
+FieldLayout layout_of(Field& /*field*/) {
+  FieldLayout l;
+  using Element = typename std::remove_cvref_t<Field>::value_type;
+  if constexpr (std::is_arithmetic_v<Element> || std::is_enum_v<Element>) {
+    l.code = element_code<Element>();
+    l.components = 1;
+  } else {
+    l.code = element_code<typename Element::value_type>();
+    l.components = static_cast<std::uint8_t>(std::tuple_size_v<std::remove_cvref_t<Field>>);
+  }
+  return l;
 }
 
 template <int Dim>
@@ -86,13 +106,9 @@ void put_particles(std::string& out, const Particles<Dim>& p) {
     if (!info.has(field_role::checkpoint)) return;
     put<std::uint16_t>(out, static_cast<std::uint16_t>(info.name.size()));
     out += info.name;
-    std::uint8_t components = 0, code = 0;
-    Particles<Dim>::components(field, [&](const auto& c) {
-      ++components;
-      code = element_code<typename std::decay_t<decltype(c)>::value_type>();
-    });
-    put(out, code);
-    put(out, components);
+    const FieldLayout layout = layout_of(field);
+    put(out, layout.code);
+    put(out, layout.components);
     Particles<Dim>::components(field, [&](const auto& c) { put_array(out, c); });
   });
 }
@@ -113,14 +129,10 @@ Particles<Dim> get_particles(Reader& r, std::size_t n) {
     if (name != info.name) r.fail(fmt::format("field '{}' where '{}' was expected", name, info.name));
     const auto code = r.get<std::uint8_t>();
     const auto components = r.get<std::uint8_t>();
-    std::uint8_t want_components = 0, want_code = 0;
-    Particles<Dim>::components(field, [&](auto& c) {
-      ++want_components;
-      want_code = element_code<typename std::decay_t<decltype(c)>::value_type>();
-    });
-    if (code != want_code || components != want_components)
+    const FieldLayout want = layout_of(field);
+    if (code != want.code || components != want.components)
       r.fail(fmt::format("field '{}' has element type {} and {} components; expected {} and {}", name, code,
-                         components, want_code, want_components));
+                         components, want.code, want.components));
     Particles<Dim>::components(field, [&](auto& c) { r.get_array(c, n); });
   });
   return p;
