@@ -815,7 +815,7 @@ TEST(CaseTemplate, ConcreteLinesForOneKey) {
   // One key's documentation spelled out in full, as `sluice init` writes it.
   const std::string t = case_template(*load_builtin_case("dam_break"));
   expect_contains(t, {"[domain]\n# Space dimensions: 2 (x, y; y up) or 3 (x, y, z; z up)."});
-  expect_contains(t, {"dimension = 2\n# Particle spacing (dx); particle mass is rho0 * dx^2.\n"
+  expect_contains(t, {"dimension = 2\n# Particle spacing (dx); particle mass is rho0 * dx^2 (dx^3 in 3D).\n"
                       "# unit: m | default: 0.2 | allowed: a number from 0.0001 to 100 (m)\ndx = 0.2\n"});
   expect_contains(t, {"[[water]]\nshape = \"box\"\nmin = [0.0, 2.0]\nmax = [3.0, 5.0]\n"});
 }

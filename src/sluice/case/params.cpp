@@ -70,7 +70,7 @@ const std::vector<Section>& case_sections() {
   static const std::vector<Section> sections = {
       {"case", "What this case is.", false},
       {"domain", "Discretisation.", false},
-      {"tank", "The closed rectangular tank: inner walls at x = 0, x = width, y = 0 and (with a lid) y = height.", false},
+      {"tank", "The closed box tank: inner walls at x = 0 and x = width (and in 3D y = 0 and y = depth), the floor at up = 0 and (with a lid) the top at up = height; up is y in 2D, z in 3D.", false},
       {"fluid", "Fluid properties and the weakly-compressible equation of state.", false},
       {"physics", "Forces and stabilisation.", false},
       {"time", "Time integration.", false},
@@ -92,7 +92,7 @@ const std::vector<Param<Case>>& case_params() {
               "One line saying what the case is."),
       declare("domain.dimension", &Case::dimension, "", 2, 2.0, 3.0,
               "Space dimensions: 2 (x, y; y up) or 3 (x, y, z; z up). Vectors have this many components."),
-      declare("domain.dx", &Case::dx, "m", 0.2, 1e-4, 100.0, "Particle spacing (dx); particle mass is rho0 * dx^2."),
+      declare("domain.dx", &Case::dx, "m", 0.2, 1e-4, 100.0, "Particle spacing (dx); particle mass is rho0 * dx^2 (dx^3 in 3D)."),
       declare("domain.h_over_dx", &Case::h_over_dx, "", 1.3, 1.0, 3.0,
               "Smoothing length in particle spacings: h = h_over_dx * dx. The kernel support is 2h."),
       declare_choice<&Case::kernel>("domain.kernel", KernelType::cubic_spline, kernel_type_names, "Smoothing kernel."),
