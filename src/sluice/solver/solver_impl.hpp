@@ -1,3 +1,8 @@
+// The definitions of Solver<Dim>, compiled once per dimension (solver_2d.cpp, solver_3d.cpp): each
+// translation unit holds one dimension's pair loop, so that neither changes how the compiler
+// optimises the other.
+#pragma once
+
 #include "sluice/solver/solver.hpp"
 
 #include <algorithm>
@@ -248,8 +253,5 @@ void Solver<Dim>::restore_saved_state() {
   std::fill(p.needs_density_repair.begin(), p.needs_density_repair.end(), 0);
   clock_ = saved_clock_;
 }
-
-template class Solver<2>;
-template class Solver<3>;
 
 }  // namespace sluice

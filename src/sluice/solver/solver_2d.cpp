@@ -1,0 +1,5 @@
+#include "sluice/solver/solver_impl.hpp"
+
+namespace sluice {
+template class Solver<2>;
+}  // namespace sluice

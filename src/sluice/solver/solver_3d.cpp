@@ -1,0 +1,5 @@
+#include "sluice/solver/solver_impl.hpp"
+
+namespace sluice {
+template class Solver<3>;
+}  // namespace sluice
