@@ -45,8 +45,10 @@ void NeighbourSearch(benchmark::State& state) {
 
 void PairLoop(benchmark::State& state) {
   Fixture f(static_cast<double>(state.range(0)) * 1e-3);
-  const CubicSpline<2> kernel(f.settings.h);
-  for (auto _ : state) benchmark::DoNotOptimize(compute_rates(f.particles, f.grid, kernel, f.settings, f.terms, 1));
+  const AnyKernel<2> kernel = CubicSpline<2>(f.settings.h);
+  const WallTreatment walls = DynamicWalls{};
+  for (auto _ : state)
+    benchmark::DoNotOptimize(compute_rates<2>(f.particles, f.grid, kernel, walls, f.settings, f.terms, 1));
   state.counters["particles"] = static_cast<double>(f.particles.size());
   state.SetItemsProcessed(state.iterations() * static_cast<long>(f.particles.size()));
 }

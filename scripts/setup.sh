@@ -5,7 +5,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config
-  libcli11-dev libtomlplusplus-dev libfmt-dev zlib1g-dev
+  libcli11-dev libtomlplusplus-dev libfmt-dev zlib1g-dev libhwy-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libpng-dev libgif-dev libfreetype-dev fonts-dejavu-core
   python3 python3-numpy python3-meshio python3-pil

@@ -84,10 +84,10 @@ TEST(CellGrid, RejectsNonPositiveCellSize) {
   EXPECT_THROW(CellGrid<2>({0, 0}, {1, 1}, 0.0), std::invalid_argument);
 }
 
-// Above light_loop_parallel_threshold particles the counting sort runs on the threads; the order must
+// Above parallel::light_loop_threshold particles the counting sort runs on the threads; the order must
 // be the serial stable order (by cell, then by index) whatever the number of threads.
 TEST(CellGrid, ParallelSortIsTheSerialStableOrder) {
-  const std::size_t n = 3 * static_cast<std::size_t>(light_loop_parallel_threshold) + 17;
+  const std::size_t n = 3 * static_cast<std::size_t>(parallel::light_loop_threshold) + 17;
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(0.0, 4.0);
   std::array<std::vector<double>, 2> pos;
@@ -118,7 +118,7 @@ TEST(CellGrid, ParallelSortIsTheSerialStableOrder) {
 // threshold the copies run in one parallel region), with or without the step-start state.
 TEST(Particles, PermuteMovesEveryFieldWithTheParticle) {
   // n = 40001 = 13 * 17 * 181: the residues mod 3 and 5 used below are not preserved by the order.
-  const std::size_t n = 2 * static_cast<std::size_t>(light_loop_parallel_threshold) + 1;
+  const std::size_t n = 2 * static_cast<std::size_t>(parallel::light_loop_threshold) + 1;
   const auto make = [n] {
     Particles<2> p;
     for (std::size_t i = 0; i < n; ++i) p.add({0.5 * i, 1.5 * i}, i % 3 ? Kind::fluid : Kind::wall, 1000.0 + i);

@@ -132,18 +132,17 @@ struct Particles {
     // One parallel region for all the fields (a region per field cost more than the copies on two
     // threads): every thread walks the same field list, copies its static share of each field into
     // the scratch array of the field's type, and one thread swaps it in.
-#pragma omp parallel num_threads(threads) if (n >= light_loop_parallel_threshold)
-    fields(*this, [&](const FieldSpec& info, auto& field) {
-      if (!info.has(field_role::state) && !(with_step_start && info.has(field_role::step_start))) return;
-      components(field, [&](auto& c) {
-        using T = typename std::remove_reference_t<decltype(c)>::value_type;
-        std::vector<T>& out_array = scratch_for<T>(scratch);
-        const T* __restrict in = c.data();
-        T* __restrict out = out_array.data();
-#pragma omp for schedule(static)
-        for (long k = 0; k < n; ++k) out[k] = in[from[k]];
-#pragma omp single
-        c.swap(out_array);
+    parallel::in_team(threads, n >= parallel::light_loop_threshold, [&](const parallel::Team& team) {
+      fields(*this, [&](const FieldSpec& info, auto& field) {
+        if (!info.has(field_role::state) && !(with_step_start && info.has(field_role::step_start))) return;
+        components(field, [&](auto& c) {
+          using T = typename std::remove_reference_t<decltype(c)>::value_type;
+          std::vector<T>& out_array = scratch_for<T>(scratch);
+          const T* __restrict in = c.data();
+          T* __restrict out = out_array.data();
+          team.for_each(n, [&](long k) { out[k] = in[from[k]]; });
+          team.single([&] { c.swap(out_array); });
+        });
       });
     });
   }

@@ -30,16 +30,13 @@ std::size_t put_back_leaked(Particles<Dim>& p, const Solids<Dim>& solids, double
   bounded.reserve(solids.size());
   for (const auto& s : solids) bounded.push_back({s.get(), s->lower(), s->upper()});
 
-  long count = 0;
   const long n = static_cast<long>(p.size());
-#pragma omp parallel for num_threads(threads) schedule(static) reduction(+ : count) if (n >= light_loop_parallel_threshold)
-  for (long i = 0; i < n; ++i) {
-    if (p.kind[i] != Kind::fluid) continue;
+  const long count = parallel::count<long>(n, threads, [&](long i) -> long {
+    if (p.kind[i] != Kind::fluid) return 0;
     Vec<Dim> x{};
     for (int d = 0; d < Dim; ++d) x[d] = p.position[d][i];
     const Solid<Dim>* solid = containing<Dim>(bounded, x);
-    if (solid == nullptr) continue;
-    ++count;
+    if (solid == nullptr) return 0;
     Vec<Dim> v{};
     for (int d = 0; d < Dim; ++d) v[d] = p.velocity[d][i];
     // A few passes: put back across one wall face may land inside an adjoining wall at a corner.
@@ -56,7 +53,8 @@ std::size_t put_back_leaked(Particles<Dim>& p, const Solids<Dim>& solids, double
       p.velocity[d][i] = v[d];
     }
     p.needs_density_repair[i] = 1;
-  }
+    return 1;
+  });
   return static_cast<std::size_t>(count);
 }
 

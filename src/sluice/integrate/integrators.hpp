@@ -3,9 +3,9 @@
 // DualSPHysics' dynamic boundaries) so a wall never pulls fluid towards itself.
 #pragma once
 
-#include "sluice/core/parallel.hpp"
 #include <algorithm>
 
+#include "sluice/core/parallel.hpp"
 #include "sluice/core/particles.hpp"
 
 namespace sluice {
@@ -13,19 +13,19 @@ namespace sluice {
 // Forward Euler: y(n+1) = y(n) + dt f(y(n)), using the rates of the current state.
 template <int Dim>
 void euler_update(Particles<Dim>& p, double dt, double wall_density_floor, int threads) {
-  const long n = static_cast<long>(p.size());
-#pragma omp parallel for num_threads(threads) schedule(static) if (n >= light_loop_parallel_threshold)
-  for (long i = 0; i < n; ++i) {
-    if (p.is_fluid(static_cast<std::size_t>(i))) {
-      for (int d = 0; d < Dim; ++d) {
-        p.position[d][i] += dt * p.velocity[d][i];
-        p.velocity[d][i] += dt * p.acceleration[d][i];
+  parallel::for_chunks(static_cast<long>(p.size()), threads, [&](long begin, long end) {
+    for (long i = begin; i < end; ++i) {
+      if (p.is_fluid(static_cast<std::size_t>(i))) {
+        for (int d = 0; d < Dim; ++d) {
+          p.position[d][i] += dt * p.velocity[d][i];
+          p.velocity[d][i] += dt * p.acceleration[d][i];
+        }
+        p.density[i] += dt * p.density_rate[i];
+      } else {
+        p.density[i] = std::max(p.density[i] + dt * p.density_rate[i], wall_density_floor);
       }
-      p.density[i] += dt * p.density_rate[i];
-    } else {
-      p.density[i] = std::max(p.density[i] + dt * p.density_rate[i], wall_density_floor);
     }
-  }
+  });
 }
 
 // Predictor-corrector (midpoint), stage 1: remember y(n), then y(n+1/2) = y(n) + dt/2 f(y(n)).
@@ -43,19 +43,19 @@ void predictor_update(Particles<Dim>& p, double dt, double wall_density_floor, i
 // ybar = y(n) + dt/2 f(y(n+1/2)) is extrapolated to y(n+1) = 2 ybar - y(n) = y(n) + dt f(y(n+1/2)).
 template <int Dim>
 void corrector_update(Particles<Dim>& p, double dt, double wall_density_floor, int threads) {
-  const long n = static_cast<long>(p.size());
-#pragma omp parallel for num_threads(threads) schedule(static) if (n >= light_loop_parallel_threshold)
-  for (long i = 0; i < n; ++i) {
-    if (p.is_fluid(static_cast<std::size_t>(i))) {
-      for (int d = 0; d < Dim; ++d) {
-        p.position[d][i] = p.position_start[d][i] + dt * p.velocity[d][i];
-        p.velocity[d][i] = p.velocity_start[d][i] + dt * p.acceleration[d][i];
+  parallel::for_chunks(static_cast<long>(p.size()), threads, [&](long begin, long end) {
+    for (long i = begin; i < end; ++i) {
+      if (p.is_fluid(static_cast<std::size_t>(i))) {
+        for (int d = 0; d < Dim; ++d) {
+          p.position[d][i] = p.position_start[d][i] + dt * p.velocity[d][i];
+          p.velocity[d][i] = p.velocity_start[d][i] + dt * p.acceleration[d][i];
+        }
+        p.density[i] = p.density_start[i] + dt * p.density_rate[i];
+      } else {
+        p.density[i] = std::max(p.density_start[i] + dt * p.density_rate[i], wall_density_floor);
       }
-      p.density[i] = p.density_start[i] + dt * p.density_rate[i];
-    } else {
-      p.density[i] = std::max(p.density_start[i] + dt * p.density_rate[i], wall_density_floor);
     }
-  }
+  });
 }
 
 }  // namespace sluice

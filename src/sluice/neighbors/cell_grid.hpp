@@ -10,7 +10,6 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <omp.h>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -57,15 +56,14 @@ class CellGrid {
   void bin(const std::array<std::vector<double>, Dim>& position, int threads = 1) {
     const long n = static_cast<long>(position[0].size());
     const std::size_t cells = cell_count();
-    const int teams = n >= light_loop_parallel_threshold ? std::max(1, threads) : 1;
+    const int teams = n >= parallel::light_loop_threshold ? std::max(1, threads) : 1;
     cell_of_.resize(static_cast<std::size_t>(n));
     order_.resize(static_cast<std::size_t>(n));
     sorted_cell_.resize(static_cast<std::size_t>(n));
     cursor_.assign(static_cast<std::size_t>(teams) * cells, 0u);
-#pragma omp parallel num_threads(teams)
-    {
-      const int t = omp_get_thread_num();
-      const long begin = n * t / teams, end = n * (t + 1) / teams;
+    parallel::in_team(teams, teams > 1, [&](const parallel::Team& team) {
+      const long t = team.index(), size = team.size();
+      const long begin = n * t / size, end = n * (t + 1) / size;
       std::uint32_t* __restrict count = cursor_.data() + static_cast<std::size_t>(t) * cells;
       for (long i = begin; i < end; ++i) {
         std::uint32_t c = 0;
@@ -73,13 +71,12 @@ class CellGrid {
         cell_of_[i] = c;
         ++count[c];
       }
-#pragma omp barrier
-#pragma omp single
-      {
+      team.barrier();
+      team.single([&] {
         std::uint32_t running = 0;
         for (std::size_t c = 0; c < cells; ++c) {
           cell_start_[c] = running;
-          for (int u = 0; u < teams; ++u) {
+          for (long u = 0; u < size; ++u) {
             std::uint32_t& slot = cursor_[static_cast<std::size_t>(u) * cells + c];
             const std::uint32_t k = slot;
             slot = running;
@@ -87,13 +84,12 @@ class CellGrid {
           }
         }
         cell_start_[cells] = running;
-      }
+      });
       for (long i = begin; i < end; ++i) order_[count[cell_of_[i]]++] = static_cast<std::uint32_t>(i);
-#pragma omp barrier
+      team.barrier();
       // Cell of each particle in sorted order.
-#pragma omp for schedule(static)
-      for (long k = 0; k < n; ++k) sorted_cell_[k] = cell_of_[order_[k]];
-    }
+      team.for_each(n, [&](long k) { sorted_cell_[k] = cell_of_[order_[k]]; });
+    });
     cell_of_.swap(sorted_cell_);
   }
 

@@ -1,10 +1,12 @@
-// Smoothing kernels W(r, h) with analytic derivatives dW/dr; support radius 2h.
+// Smoothing kernels W(r, h) with analytic derivatives dW/dr; support radius 2h. A kernel object holds
+// its constants; its shape as a function of r is in physics/kernel_shapes-inl.hpp, written once for
+// doubles (the member functions here) and for the vector lanes of the pair loop.
 #pragma once
 
-#include <algorithm>
 #include <numbers>
+#include <variant>
 
-#include "sluice/core/simd.hpp"
+#include "sluice/core/lane_math.hpp"
 
 namespace sluice {
 
@@ -25,41 +27,13 @@ struct CubicSpline {
   }
 
   [[nodiscard]] double value(double r) const { return r < support * h ? value_inside(r) : 0.0; }
-
-  // W for 0 <= r < 2h, branch-free; exactly 0 for r >= 2h (q is clamped at 2, so padding entries of
-  // a neighbour list placed outside the support contribute nothing). T is double or simd::V8.
-  template <class T>
-  [[nodiscard]] T value_inside(T r) const {
-    const T q = simd::min(r * inv_h, T(support));  // beyond the support: exactly 0
-    const T t = 2.0 - q;
-    const T inner = 1.0 - 1.5 * q * q + 0.75 * q * q * q;
-    const T outer = 0.25 * t * t * t;
-    return norm * simd::select(q < 1.0, inner, outer);
-  }
-
+  // W for 0 <= r, exactly 0 for r >= 2h, without a branch on r.
+  [[nodiscard]] double value_inside(double r) const;
   // dW/dr (negative inside the support, zero outside and at r = 0).
   [[nodiscard]] double derivative(double r) const { return r < support * h ? derivative_inside(r) : 0.0; }
-
-  // dW/dr for 0 <= r < 2h, without branches so that the pair loop vectorises; exactly 0 for r >= 2h.
-  template <class T>
-  [[nodiscard]] T derivative_inside(T r) const {
-    const T q = simd::min(r * inv_h, T(support));  // beyond the support: exactly 0
-    const T t = 2.0 - q;
-    const T inner = -3.0 * q + 2.25 * q * q;
-    const T outer = -0.75 * t * t;
-    return norm * inv_h * simd::select(q < 1.0, inner, outer);
-  }
-
-  // The gradient factor F = dW/dr / r for 0 < r (exactly 0 for r >= 2h), given r and 1/r: on the
-  // inner piece q/r = 1/h, so only the outer piece needs 1/r.
-  template <class T>
-  [[nodiscard]] T gradient_factor(T r, T inv_r) const {
-    const T q = simd::min(r * inv_h, T(support));
-    const T t = 2.0 - q;
-    const T inner = norm * inv_h * inv_h * (-3.0 + 2.25 * q);
-    const T outer = -0.75 * norm * inv_h * t * t * inv_r;
-    return simd::select(q < 1.0, inner, outer);
-  }
+  [[nodiscard]] double derivative_inside(double r) const;
+  // F = dW/dr / r for 0 < r (exactly 0 for r >= 2h), given r and 1/r.
+  [[nodiscard]] double gradient_factor(double r, double inv_r) const;
 };
 
 // Wendland C2 (Wendland 1995), in the q in [0, 2] form used by DualSPHysics; 2D and 3D only.
@@ -78,30 +52,29 @@ struct WendlandC2 {
   }
 
   [[nodiscard]] double value(double r) const { return r < support * h ? value_inside(r) : 0.0; }
-
-  template <class T>
-  [[nodiscard]] T value_inside(T r) const {
-    const T q = simd::min(r * inv_h, T(support));  // beyond the support: exactly 0
-    const T t = 1.0 - 0.5 * q;
-    return norm * t * t * t * t * (2.0 * q + 1.0);
-  }
-
+  [[nodiscard]] double value_inside(double r) const;
   [[nodiscard]] double derivative(double r) const { return r < support * h ? derivative_inside(r) : 0.0; }
-
-  template <class T>
-  [[nodiscard]] T derivative_inside(T r) const {
-    const T q = simd::min(r * inv_h, T(support));  // beyond the support: exactly 0
-    const T t = 1.0 - 0.5 * q;
-    return -5.0 * norm * inv_h * q * t * t * t;
-  }
-
-  // F = dW/dr / r (exactly 0 for r >= 2h): q/r = 1/h, so no division.
-  template <class T>
-  [[nodiscard]] T gradient_factor(T r, T /*inv_r*/) const {
-    const T q = simd::min(r * inv_h, T(support));
-    const T t = 1.0 - 0.5 * q;
-    return -5.0 * norm * inv_h * inv_h * t * t * t;
-  }
+  [[nodiscard]] double derivative_inside(double r) const;
+  [[nodiscard]] double gradient_factor(double r, double inv_r) const;
 };
+
+#include "sluice/physics/kernel_shapes-inl.hpp"
+
+template <int Dim>
+double CubicSpline<Dim>::value_inside(double r) const { return shape::value_inside(*this, r); }
+template <int Dim>
+double CubicSpline<Dim>::derivative_inside(double r) const { return shape::derivative_inside(*this, r); }
+template <int Dim>
+double CubicSpline<Dim>::gradient_factor(double r, double inv_r) const { return shape::gradient_factor(*this, r, inv_r); }
+template <int Dim>
+double WendlandC2<Dim>::value_inside(double r) const { return shape::value_inside(*this, r); }
+template <int Dim>
+double WendlandC2<Dim>::derivative_inside(double r) const { return shape::derivative_inside(*this, r); }
+template <int Dim>
+double WendlandC2<Dim>::gradient_factor(double r, double inv_r) const { return shape::gradient_factor(*this, r, inv_r); }
+
+// The kernels a run can use; the index of the alternative selects the compiled pair loop.
+template <int Dim>
+using AnyKernel = std::variant<CubicSpline<Dim>, WendlandC2<Dim>>;
 
 }  // namespace sluice

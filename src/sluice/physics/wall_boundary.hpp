@@ -6,7 +6,7 @@
 // rho_w = rho0 (p_w / B + 1)^(1/gamma), so that the pair loop sees that pressure through P/rho^2.
 // A wall particle with no fluid neighbour gets p = 0 (rho = rho0); a negative extrapolated pressure
 // is clamped to 0 (it would pull the fluid into the wall). The wall velocity is not extrapolated
-// (free slip): the fluid-wall artificial viscosity is switched off instead (RateSettings).
+// (free slip): the fluid-wall artificial viscosity is switched off instead (AdamiWalls, walls.hpp).
 //
 // Each wall particle is summed by one thread over its neighbours in a fixed (cell) order, so the
 // results do not depend on the number of threads.
@@ -17,6 +17,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "sluice/core/parallel.hpp"
 #include "sluice/core/particles.hpp"
 #include "sluice/core/vec.hpp"
 #include "sluice/neighbors/cell_grid.hpp"
@@ -62,16 +63,14 @@ double extrapolated_wall_pressure(const Particles<Dim>& p, const CellGrid<Dim>& 
 template <int Dim, class Kernel>
 void extrapolate_wall_density(Particles<Dim>& p, const CellGrid<Dim>& grid, const Kernel& kernel, const TaitEos& eos,
                               const std::type_identity_t<Vec<Dim>>& gravity, int threads) {
-  const long n = static_cast<long>(p.size());
   // Each iteration reads fluid densities and writes one wall density only: no races.
-#pragma omp parallel for schedule(dynamic, 256) num_threads(threads)
-  for (long i = 0; i < n; ++i) {
+  parallel::for_each_dynamic(static_cast<long>(p.size()), threads, 256, [&](long i) {
     const auto w = static_cast<std::size_t>(i);
-    if (p.kind[w] != Kind::wall) continue;
+    if (p.kind[w] != Kind::wall) return;
     bool found = false;
     const double pressure = extrapolated_wall_pressure(p, grid, kernel, eos, gravity, w, found);
     p.density[w] = found ? eos.density(std::max(pressure, 0.0)) : eos.rest_density;
-  }
+  });
 }
 
 }  // namespace sluice

@@ -63,7 +63,7 @@ struct Health {
 template <int Dim>
 class Solver {
  public:
-  using KernelVariant = std::variant<CubicSpline<Dim>, WendlandC2<Dim>>;
+  using KernelVariant = AnyKernel<Dim>;
 
   // Builds the particles of a case (setup) and starts at t = 0.
   Solver(const Case& c, int threads);
@@ -126,6 +126,7 @@ class Solver {
   CellGrid<Dim> grid_;
   bool grid_binned_ = false;
   KernelVariant kernel_{CubicSpline<Dim>(1.0)};
+  WallTreatment walls_;
   RateSettings<Dim> settings_{};
   ParticleTerms terms_;
   std::vector<double> scratch_;

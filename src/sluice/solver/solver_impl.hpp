@@ -15,7 +15,6 @@
 #include "sluice/geometry/leaks.hpp"
 #include "sluice/geometry/setup.hpp"
 #include "sluice/integrate/integrators.hpp"
-#include "sluice/physics/wall_boundary.hpp"
 
 namespace sluice {
 
@@ -46,7 +45,6 @@ void Solver<Dim>::init(const Case& c) {
   settings_.h = h;
   settings_.viscosity = c.viscosity;
   settings_.alpha = c.artificial_viscosity;
-  settings_.wall_alpha_factor = c.wall_boundary == WallBoundary::adami ? 0.0 : 1.0;  // Adami walls: free slip
   settings_.artificial_pressure = c.artificial_pressure;
   settings_.artificial_pressure_exponent = c.artificial_pressure_exponent;
   settings_.spacing = c.dx;
@@ -55,6 +53,8 @@ void Solver<Dim>::init(const Case& c) {
   settings_.eos = TaitEos{c.rest_density, c.sound_speed, c.gamma};
   if (c.kernel == KernelType::wendland_c2) kernel_ = WendlandC2<Dim>(h);
   else kernel_ = CubicSpline<Dim>(h);
+  if (c.wall_boundary == WallBoundary::adami) walls_ = AdamiWalls{};
+  else walls_ = DynamicWalls{};
   // The grid covers the tank and its walls with a margin; strays are clamped into edge cells.
   const int layers = wall_layers(c);
   const double margin = (layers + 2) * c.dx + 2.0 * h;
@@ -74,33 +74,18 @@ RateSummary Solver<Dim>::evaluate(bool shepard_due, bool mid_step) {
   grid_binned_ = true;
   const bool repair_due = std::any_of(particles_.needs_density_repair.begin(), particles_.needs_density_repair.end(),
                                       [](std::uint8_t f) { return f != 0; });
-  const bool adami_walls = case_.wall_boundary == WallBoundary::adami;
-  return std::visit(
-      [&](const auto& kernel) {
-        if (shepard_due || repair_due) {
-          const auto& repair = particles_.needs_density_repair;
-          shepard_filter(particles_, grid_, kernel, settings_.mass, scratch_, threads_,
-                         [&](std::size_t i) { return shepard_due || repair[i] != 0; });
-          std::fill(particles_.needs_density_repair.begin(), particles_.needs_density_repair.end(), 0);
-        }
-        // Adami walls: the wall pressure (density) is extrapolated from the fluid just before the pair
-        // loop, and not integrated (the wall density rates are zeroed).
-        if (adami_walls)
-          extrapolate_wall_density(particles_, grid_, kernel, settings_.eos, settings_.gravity, threads_);
-        terms_.compute(particles_, settings_.eos, threads_, settings_.artificial_pressure);
-        using K = std::decay_t<decltype(kernel)>;
-        const RateSummary summary =
-            settings_.artificial_pressure > 0.0
-                ? compute_rates<Dim, K, true>(particles_, grid_, kernel, settings_, terms_, threads_)
-                : compute_rates<Dim, K, false>(particles_, grid_, kernel, settings_, terms_, threads_);
-        if (adami_walls) {
-          const long n = static_cast<long>(particles_.size());
-          for (long i = 0; i < n; ++i)
-            if (!particles_.is_fluid(static_cast<std::size_t>(i))) particles_.density_rate[i] = 0.0;
-        }
-        return summary;
-      },
-      kernel_);
+  if (shepard_due || repair_due) {
+    shepard_filter(particles_, grid_, kernel_, settings_.mass, shepard_due ? nullptr : &particles_.needs_density_repair,
+                   scratch_, threads_);
+    std::fill(particles_.needs_density_repair.begin(), particles_.needs_density_repair.end(), 0);
+  }
+  std::visit([&](const auto& walls, const auto& kernel) {
+    walls.before_rates(particles_, grid_, kernel, settings_.eos, settings_.gravity, threads_);
+  }, walls_, kernel_);
+  terms_.compute(particles_, settings_.eos, threads_, settings_.artificial_pressure);
+  const RateSummary summary = compute_rates(particles_, grid_, kernel_, walls_, settings_, terms_, threads_);
+  std::visit([&](const auto& walls) { walls.after_rates(particles_); }, walls_);
+  return summary;
 }
 
 template <int Dim>
@@ -205,9 +190,8 @@ Health Solver<Dim>::check_health(std::size_t max_reported) const {
     return nullptr;
   };
   const long n = static_cast<long>(p.size());
-  long bad = 0;
-#pragma omp parallel for num_threads(threads_) schedule(static) reduction(+ : bad) if (n >= light_loop_parallel_threshold)
-  for (long i = 0; i < n; ++i) bad += problem(static_cast<std::size_t>(i)) != nullptr;
+  const long bad =
+      parallel::count<long>(n, threads_, [&](long i) -> long { return problem(static_cast<std::size_t>(i)) != nullptr; });
   Health health;
   health.offending = static_cast<std::size_t>(bad);
   if (bad == 0) return health;

@@ -1,0 +1,111 @@
+// SIMD lanes for the code compiled once per instruction set (physics/pair_loop-inl.hpp): `Pack` is
+// the widest vector of doubles of the target Highway compiles for (2 lanes for SSE4 and the portable
+// EMU128, 4 for AVX2, 8 for AVX-512), with the arithmetic operators and the same functions (min, max,
+// select, quotient, sqrt) that core/lane_math.hpp gives doubles. The kernel and pair formulas are
+// written once against these names (physics/kernel_shapes-inl.hpp, physics/pair_terms-inl.hpp) and
+// compiled for doubles and for every target.
+//
+// A double converts to a Pack implicitly (a broadcast), so that `2.0 - q` and `m * F` read as they
+// do for doubles.
+//
+// Included once per target by Highway's foreach_target (no include guard: a per-target toggle).
+#if defined(SLUICE_CORE_LANES_INL_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef SLUICE_CORE_LANES_INL_H_
+#undef SLUICE_CORE_LANES_INL_H_
+#else
+#define SLUICE_CORE_LANES_INL_H_
+#endif
+
+#include <array>
+#include <cstdint>
+
+#include <hwy/highway.h>
+
+HWY_BEFORE_NAMESPACE();
+namespace sluice::HWY_NAMESPACE::simd {
+
+namespace hn = hwy::HWY_NAMESPACE;
+
+using D = hn::ScalableTag<double>;
+using DI = hn::RebindToSigned<D>;  // int64 lanes: the neighbour indices
+
+struct Mask {
+  hn::Mask<D> m;
+};
+
+struct Pack {
+  hn::Vec<D> v;
+  Pack() = default;
+  Pack(hn::Vec<D> x) : v(x) {}         // NOLINT(google-explicit-constructor)
+  Pack(double x) : v(hn::Set(D(), x)) {}  // NOLINT(google-explicit-constructor): broadcast
+};
+
+HWY_API std::size_t lanes() { return hn::Lanes(D()); }
+
+HWY_API Pack operator+(Pack a, Pack b) { return hn::Add(a.v, b.v); }
+HWY_API Pack operator-(Pack a, Pack b) { return hn::Sub(a.v, b.v); }
+HWY_API Pack operator*(Pack a, Pack b) { return hn::Mul(a.v, b.v); }
+HWY_API Pack operator-(Pack a) { return hn::Neg(a.v); }
+HWY_API Pack& operator+=(Pack& a, Pack b) { return a = a + b; }
+HWY_API Mask operator<(Pack a, Pack b) { return {hn::Lt(a.v, b.v)}; }
+HWY_API Mask operator>(Pack a, Pack b) { return {hn::Gt(a.v, b.v)}; }
+HWY_API Mask operator!=(Pack a, Pack b) { return {hn::Ne(a.v, b.v)}; }
+HWY_API Mask operator&(Mask a, Mask b) { return {hn::And(a.m, b.m)}; }
+
+HWY_API Pack min(Pack a, Pack b) { return hn::Min(a.v, b.v); }
+HWY_API Pack max(Pack a, Pack b) { return hn::Max(a.v, b.v); }
+HWY_API Pack select(Mask c, Pack a, Pack b) { return hn::IfThenElse(c.m, a.v, b.v); }
+HWY_API Pack quotient(Pack a, Pack b) { return hn::Div(a.v, b.v); }
+HWY_API Pack sqrt(Pack x) { return hn::Sqrt(x.v); }
+
+HWY_API double reduce_add(Pack a) { return hn::GetLane(hn::SumOfLanes(D(), a.v)); }
+HWY_API double reduce_max(Pack a) { return hn::GetLane(hn::MaxOfLanes(D(), a.v)); }
+HWY_API double reduce_min(Pack a) { return hn::GetLane(hn::MinOfLanes(D(), a.v)); }
+
+HWY_API Pack load(const double* p) { return hn::LoadU(D(), p); }
+HWY_API void store(Pack a, double* p) { hn::StoreU(a.v, D(), p); }
+// The first n lanes from p, `fill` in the others (which are not read).
+HWY_API Pack load_first(std::size_t n, const double* p, double fill) {
+  const auto m = hn::FirstN(D(), n);
+  return hn::IfThenElse(m, hn::MaskedLoad(m, D(), p), hn::Set(D(), fill));
+}
+HWY_API Mask first(std::size_t n) { return {hn::FirstN(D(), n)}; }
+// base[index[k]] for each lane k.
+HWY_API Pack gather(const double* base, hn::Vec<DI> index) { return hn::GatherIndex(D(), base, index); }
+
+// The lanes of v selected by m, moved to the front (the others follow in any order). On AVX2 with a
+// table of its own: Highway 1.0.3's Compress of 64-bit lanes there copies a 512-byte table onto the
+// stack at every call, which was a quarter of the pair loop's time.
+#if HWY_TARGET == HWY_AVX2
+inline constexpr auto kCompress4 = [] {
+  std::array<std::array<std::int64_t, 4>, 16> table{};
+  for (int bits = 0; bits < 16; ++bits) {
+    int k = 0;
+    for (int lane = 0; lane < 4; ++lane)
+      if (bits & (1 << lane)) table[bits][k++] = lane;
+    for (int lane = 0; lane < 4; ++lane)
+      if (!(bits & (1 << lane))) table[bits][k++] = lane;
+  }
+  return table;
+}();
+#endif
+
+template <class DV>
+HWY_API hn::Vec<DV> compress(DV d, hn::Vec<DV> v, hn::Mask<DV> m) {
+#if HWY_TARGET == HWY_AVX2
+  std::uint8_t bits = 0;
+  hn::StoreMaskBits(d, m, &bits);
+  using TI = hn::TFromD<hn::RebindToSigned<DV>>;
+  alignas(32) TI index[4];
+  for (int k = 0; k < 4; ++k) index[k] = static_cast<TI>(kCompress4[bits & 15][k]);
+  return hn::TableLookupLanes(v, hn::SetTableIndices(d, index));
+#else
+  (void)d;
+  return hn::Compress(v, m);
+#endif
+}
+
+}  // namespace sluice::HWY_NAMESPACE::simd
+HWY_AFTER_NAMESPACE();
+
+#endif  // per-target include guard

@@ -1,0 +1,93 @@
+// The pair loop compiled for every instruction set Highway targets here (foreach_target re-includes
+// this file once per target), and the dispatch to the best one the CPU runs.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "sluice/physics/pair_loop.cpp"
+#include <hwy/foreach_target.h>  // must come before highway.h
+
+#include <hwy/highway.h>
+
+#include "sluice/physics/pair_loop-inl.hpp"
+
+#if HWY_ONCE
+
+#include <algorithm>
+#include <cctype>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "sluice/physics/rates.hpp"
+#include "sluice/physics/simd_target.hpp"
+
+namespace sluice {
+
+HWY_EXPORT(target_rate_loops);
+
+namespace {
+
+const RateLoops& loops() { return *HWY_DYNAMIC_DISPATCH(target_rate_loops)(); }
+
+std::string upper(std::string_view s) {
+  std::string u(s);
+  std::transform(u.begin(), u.end(), u.begin(), [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
+  return u;
+}
+
+}  // namespace
+
+std::string simd_target() { return loops().target; }
+
+std::vector<std::string> available_simd_targets() {
+  std::vector<std::string> names;
+  for (const std::int64_t t : hwy::SupportedAndGeneratedTargets()) names.emplace_back(hwy::TargetName(t));
+  return names;
+}
+
+void use_simd_target(std::string_view name) {
+  const std::string wanted = upper(name);
+  if (wanted == "AUTO") {
+    hwy::SetSupportedTargetsForTest(0);
+    hwy::GetChosenTarget().Update(hwy::SupportedTargets());
+    return;
+  }
+  for (const std::int64_t t : hwy::SupportedAndGeneratedTargets()) {
+    if (upper(hwy::TargetName(t)) != wanted) continue;
+    hwy::SetSupportedTargetsForTest(t);
+    hwy::GetChosenTarget().Update(hwy::SupportedTargets());
+    return;
+  }
+  std::string list;
+  for (const auto& n : available_simd_targets()) list += (list.empty() ? "" : ", ") + n;
+  throw std::invalid_argument(
+      fmt::format("unknown or unsupported SIMD target '{}': this CPU and build have {} (or auto)", name, list));
+}
+
+template <int Dim>
+RateSummary compute_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const AnyKernel<Dim>& kernel,
+                          const WallTreatment& walls, const RateSettings<Dim>& settings, const ParticleTerms& terms,
+                          int threads) {
+  const bool with_artificial_pressure = settings.artificial_pressure > 0.0;
+  const RateLoop<Dim> loop =
+      loops().template of<Dim>().rates[kernel.index()][walls.index()][with_artificial_pressure ? 1 : 0];
+  return loop(p, grid, settings, terms, threads);
+}
+
+template <int Dim>
+void shepard_filter(Particles<Dim>& p, const CellGrid<Dim>& grid, const AnyKernel<Dim>& kernel, double mass,
+                    const std::vector<std::uint8_t>* selected, std::vector<double>& scratch, int threads) {
+  const double h = std::visit([](const auto& k) { return k.h; }, kernel);
+  loops().template of<Dim>().shepard[kernel.index()](p, grid, h, mass, selected, scratch, threads);
+}
+
+template RateSummary compute_rates<2>(Particles<2>&, const CellGrid<2>&, const AnyKernel<2>&, const WallTreatment&,
+                                      const RateSettings<2>&, const ParticleTerms&, int);
+template RateSummary compute_rates<3>(Particles<3>&, const CellGrid<3>&, const AnyKernel<3>&, const WallTreatment&,
+                                      const RateSettings<3>&, const ParticleTerms&, int);
+template void shepard_filter<2>(Particles<2>&, const CellGrid<2>&, const AnyKernel<2>&, double,
+                                const std::vector<std::uint8_t>*, std::vector<double>&, int);
+template void shepard_filter<3>(Particles<3>&, const CellGrid<3>&, const AnyKernel<3>&, double,
+                                const std::vector<std::uint8_t>*, std::vector<double>&, int);
+
+}  // namespace sluice
+
+#endif  // HWY_ONCE

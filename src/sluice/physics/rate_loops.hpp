@@ -1,0 +1,42 @@
+// The table of compiled pair loops of one instruction set (physics/pair_loop-inl.hpp builds one per
+// target; physics/pair_loop.cpp picks the CPU's best): a function per dimension, kernel, wall
+// treatment and artificial-pressure switch, and a Shepard filter per dimension and kernel.
+#pragma once
+
+#include <cstdint>
+#include <variant>
+#include <vector>
+
+#include "sluice/physics/rates.hpp"
+
+namespace sluice {
+
+inline constexpr std::size_t kKernels = std::variant_size_v<AnyKernel<2>>;
+inline constexpr std::size_t kWallTreatments = std::variant_size_v<WallTreatment>;
+
+template <int Dim>
+using RateLoop = RateSummary (*)(Particles<Dim>&, const CellGrid<Dim>&, const RateSettings<Dim>&,
+                                 const ParticleTerms&, int threads);
+template <int Dim>
+using ShepardLoop = void (*)(Particles<Dim>&, const CellGrid<Dim>&, double h, double mass,
+                             const std::vector<std::uint8_t>* selected, std::vector<double>& scratch, int threads);
+
+template <int Dim>
+struct DimensionLoops {
+  RateLoop<Dim> rates[kKernels][kWallTreatments][2];  // [kernel][walls][with artificial pressure]
+  ShepardLoop<Dim> shepard[kKernels];
+};
+
+struct RateLoops {
+  const char* target;  // Highway's name of the instruction set: AVX2, AVX3 (AVX-512), SSE4, EMU128, ...
+  DimensionLoops<2> two;
+  DimensionLoops<3> three;
+
+  template <int Dim>
+  [[nodiscard]] const DimensionLoops<Dim>& of() const {
+    if constexpr (Dim == 2) return two;
+    else return three;
+  }
+};
+
+}  // namespace sluice

@@ -1,0 +1,55 @@
+// Wall treatments as policies. A policy says what the pair loop does between fluid and wall particles
+// (its traits, read by the WCSPH pair of physics/wcsph_pair-inl.hpp) and what happens to the wall
+// particles before and after the rates are computed. The pair loop is compiled for each policy of
+// WallTreatment (physics/pair_loop.cpp).
+//
+// A new wall treatment is a policy here, an alternative of WallTreatment (and of the case's
+// WallBoundary choice), and — if it changes a pair term — its trait read in wcsph_pair-inl.hpp.
+#pragma once
+
+#include <type_traits>
+#include <variant>
+
+#include "sluice/core/particles.hpp"
+#include "sluice/core/vec.hpp"
+#include "sluice/neighbors/cell_grid.hpp"
+#include "sluice/physics/eos.hpp"
+#include "sluice/physics/wall_boundary.hpp"
+
+namespace sluice {
+
+// Dynamic boundary particles (Crespo et al. 2007): wall particles obey the continuity equation like
+// the fluid, their density (so pressure) rises as the fluid approaches, and fluid-wall pairs feel the
+// artificial viscosity like fluid-fluid pairs. The walls do not move.
+struct DynamicWalls {
+  static constexpr bool fluid_wall_viscosity = true;
+
+  template <int Dim, class Kernel>
+  void before_rates(Particles<Dim>&, const CellGrid<Dim>&, const Kernel&, const TaitEos&,
+                    const std::type_identity_t<Vec<Dim>>&, int) const {}
+  template <int Dim>
+  void after_rates(Particles<Dim>&) const {}
+};
+
+// Adami, Hu & Adams (2012) generalized walls: the wall density is set from the pressure extrapolated
+// from the fluid (physics/wall_boundary.hpp) just before the pair loop, and not integrated (its rate
+// is zeroed); free slip, so no artificial viscosity between fluid and wall.
+struct AdamiWalls {
+  static constexpr bool fluid_wall_viscosity = false;
+
+  template <int Dim, class Kernel>
+  void before_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const Kernel& kernel, const TaitEos& eos,
+                    const std::type_identity_t<Vec<Dim>>& gravity, int threads) const {
+    extrapolate_wall_density(p, grid, kernel, eos, gravity, threads);
+  }
+  template <int Dim>
+  void after_rates(Particles<Dim>& p) const {
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (!p.is_fluid(i)) p.density_rate[i] = 0.0;
+  }
+};
+
+// In the order of the case's WallBoundary choices.
+using WallTreatment = std::variant<DynamicWalls, AdamiWalls>;
+
+}  // namespace sluice

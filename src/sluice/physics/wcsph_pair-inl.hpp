@@ -1,0 +1,97 @@
+// The WCSPH interaction of a particle pair (i, j), written once: a function of the two particles'
+// fields and their separation r_ij = x_i - x_j that returns what both receive (Newton's third law:
+// the forces are opposite, the continuity terms equal, the density-diffusion flux opposite). T is a
+// double or a vector of pairs (core/lanes-inl.hpp); the pair loop (physics/pair_loop-inl.hpp) loads
+// the fields, calls it and adds the results, knowing nothing of the physics.
+//
+// The equations are the pair terms of physics/pair_terms-inl.hpp; the wall treatment `Walls`
+// (physics/walls.hpp) says which apply between a fluid and a wall particle.
+//
+// No include guard and no includes: included inside a namespace that has `simd`, `shape` and `pair`
+// for T (see physics/pair_loop-inl.hpp).
+
+template <int Dim, class Kernel, class Walls, bool WithArtificialPressure>
+struct WcsphPair {
+  // What the interaction reads of one particle.
+  template <class T>
+  struct Side {
+    std::array<T, Dim> v;
+    T rho, inv_rho, p_over_rho2, hydro_k, fluid, tension;
+  };
+
+  // What it returns: the force on i (j receives -force), both density rates, and what the time step
+  // and the clumping check need, over the pairs that have a fluid particle.
+  template <class T>
+  struct Rates {
+    std::array<T, Dim> force;
+    T drho_i, drho_j;
+    T speed2;    // |v_ij|^2, or 0 for a wall-wall pair
+    T fluid_r2;  // r^2, or far_r2 for a wall-wall pair
+  };
+
+  Kernel kernel;
+  double m = 0.0, c0 = 0.0, h = 0.0, mu = 0.0, alpha = 0.0, delta_h_c0 = 0.0;
+  std::array<double, Dim> g{};
+  double inv_w_dx = 0.0;  // 1 / W(dx), for the artificial pressure
+  int ap_n = 0;           // artificial pressure exponent
+  double far_r2 = 0.0;    // beyond the support
+  // The particle fields (physics/particle_terms.hpp for the derived ones).
+  std::array<const double*, Dim> v{};
+  const double *rho = nullptr, *inv_rho = nullptr, *p_over_rho2 = nullptr, *hydro_k = nullptr, *fluid = nullptr,
+               *tension = nullptr;
+
+  // One side of a pair, each field read by `load(array)`: a broadcast of particle i, or a gather of
+  // the neighbours j.
+  template <class T, class Load>
+  Side<T> side(Load&& load) const {
+    Side<T> s;
+    for (int d = 0; d < Dim; ++d) s.v[d] = load(v[d]);
+    s.rho = load(rho);
+    s.inv_rho = load(inv_rho);
+    s.p_over_rho2 = load(p_over_rho2);
+    s.hydro_k = load(hydro_k);
+    s.fluid = load(fluid);
+    s.tension = WithArtificialPressure ? load(tension) : T(0.0);
+    return s;
+  }
+
+  template <class T>
+  Rates<T> operator()(const Side<T>& i, const Side<T>& j, const std::array<T, Dim>& r_ij) const {
+    std::array<T, Dim> v_ij;
+    for (int d = 0; d < Dim; ++d) v_ij[d] = i.v[d] - j.v[d];
+    T r2 = r_ij[0] * r_ij[0], v_dot_r = v_ij[0] * r_ij[0], g_dot_r = g[0] * r_ij[0], v2 = v_ij[0] * v_ij[0];
+    for (int d = 1; d < Dim; ++d) {
+      r2 = r2 + r_ij[d] * r_ij[d];
+      v_dot_r = v_dot_r + v_ij[d] * r_ij[d];
+      g_dot_r = g_dot_r + g[d] * r_ij[d];
+      v2 = v2 + v_ij[d] * v_ij[d];
+    }
+    const T r = simd::sqrt(r2);
+    const T F = shape::gradient_factor(kernel, r, simd::quotient(T(1.0), r));
+    const T both_fluid = i.fluid * j.fluid;
+    const T alpha_ij = Walls::fluid_wall_viscosity ? T(alpha) : both_fluid * alpha;
+
+    T along_r = pair::pressure(m, i.p_over_rho2, j.p_over_rho2, F) +
+                pair::artificial_viscosity(alpha_ij, c0, h, m, v_dot_r, r2, 0.5 * (i.rho + j.rho), F);
+    if constexpr (WithArtificialPressure) {
+      const T f = shape::value_inside(kernel, r) * inv_w_dx;
+      T f_n = 1.0;
+      for (int e = 0; e < ap_n; ++e) f_n = f_n * f;
+      along_r += pair::artificial_pressure(m, i.tension, j.tension, f_n, F);
+    }
+    const T along_v = pair::laminar_viscosity(mu, m, i.inv_rho * i.inv_rho, j.inv_rho * j.inv_rho, F);
+
+    Rates<T> out;
+    for (int d = 0; d < Dim; ++d) out.force[d] = along_r * r_ij[d] + along_v * v_ij[d];
+    const T drho_hydro = -0.5 * (i.hydro_k + j.hydro_k) * g_dot_r;  // rho_j^H - rho_i^H
+    const T continuity = pair::continuity(m, F, v_dot_r);
+    // Density diffusion acts between fluid particles only.
+    const T flux = both_fluid * pair::density_diffusion_flux(delta_h_c0, m, i.rho, j.rho, drho_hydro, F);
+    out.drho_i = continuity + flux * j.inv_rho;
+    out.drho_j = continuity - flux * i.inv_rho;
+    const T any_fluid = simd::max(i.fluid, j.fluid);
+    out.speed2 = any_fluid * v2;
+    out.fluid_r2 = simd::select(any_fluid != 0.0, r2, T(far_r2));
+    return out;
+  }
+};
