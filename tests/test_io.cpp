@@ -1,8 +1,10 @@
-// The file formats and the atomic writer: NumPy .npz and frames, checkpoints (version and checksum),
-// the ParaView collection, temporary files, and clear errors for damaged input and unwritable output.
+// The file formats and the writers: NumPy .npz and frames, checkpoints (version and checksum), the
+// ParaView collection, atomic files and their temporary files, files that grow by appended records,
+// and clear errors for damaged input and unwritable output.
 // Our files are also read back by real numpy and meshio in the Python tests (test_outputs.py).
 #include <gtest/gtest.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <fmt/format.h>
@@ -18,6 +20,7 @@
 #include <vector>
 
 #include "sluice/case/params.hpp"
+#include "sluice/io/append_file.hpp"
 #include "sluice/io/atomic_file.hpp"
 #include "sluice/io/checkpoint.hpp"
 #include "sluice/io/frames.hpp"
@@ -452,13 +455,87 @@ TEST(AtomicFile, StaleTemporaryFilesOfDeadProcessesAreRemoved) {
   EXPECT_EQ(remove_stale_temp_files(d / "no_such_dir"), 0u);
 }
 
+ino_t inode_of(const fs::path& path) {
+  struct stat s {};
+  EXPECT_EQ(::stat(path.c_str(), &s), 0) << path;
+  return s.st_ino;
+}
+
+TEST(AppendFile, RecordsGoInBeforeTheFooterOfTheSameFile) {
+  TempDir dir;
+  const fs::path path = dir.path() / "list.xml";
+  AppendFile file(path, "<list>\n", "</list>\n");
+  EXPECT_FALSE(fs::exists(path));  // nothing until the first records
+  file.append("  <a/>\n");
+  EXPECT_EQ(read_file(path), "<list>\n  <a/>\n</list>\n");
+  const ino_t inode = inode_of(path);
+  file.append("  <b/>\n  <c/>\n");
+  file.append("");
+  file.append("  <d/>\n");
+  EXPECT_EQ(read_file(path), "<list>\n  <a/>\n  <b/>\n  <c/>\n  <d/>\n</list>\n");
+  EXPECT_EQ(inode_of(path), inode);  // the same file, grown: not a new one renamed over it
+  file.sync();
+  EXPECT_EQ(names_in(dir.path()), std::vector<std::string>{"list.xml"});
+}
+
+TEST(AppendFile, TheFirstAppendCreatesTheFileEvenWithNoRecords) {
+  TempDir dir;
+  AppendFile file(dir.path() / "series.csv", "time,height\n");
+  file.append("");
+  EXPECT_EQ(read_file(dir.path() / "series.csv"), "time,height\n");
+}
+
+TEST(AppendFile, ResumeKeepsTheSameFileOrReplacesWhatDiffers) {
+  TempDir dir;
+  const fs::path path = dir.path() / "series.csv";
+  write_file_atomic(path, "time,height\n0,1\n0.1,2\n");
+  const ino_t inode = inode_of(path);
+  AppendFile file(path, "time,height\n");
+  file.resume("time,height\n0,1\n0.1,2\n");
+  EXPECT_EQ(inode_of(path), inode);
+  file.append("0.2,3\n");
+  EXPECT_EQ(read_file(path), "time,height\n0,1\n0.1,2\n0.2,3\n");
+  EXPECT_EQ(inode_of(path), inode);
+
+  AppendFile again(path, "time,height\n");
+  again.resume("time,height\n0,1\n");  // what a restart at t = 0 keeps
+  again.append("0.1,5\n");
+  EXPECT_EQ(read_file(path), "time,height\n0,1\n0.1,5\n");
+  EXPECT_EQ(names_in(dir.path()), std::vector<std::string>{"series.csv"});
+}
+
+TEST(AppendFile, AFailedAppendIsAnIoErrorAndLeavesTheFileAsItWas) {
+  // Past a file-size limit the write stops part way (then fails with EFBIG), as on a full disk.
+  TempDir dir;
+  const fs::path path = dir.path() / "list.xml";
+  AppendFile file(path, "<list>\n", "</list>\n");
+  file.append("  <a/>\n");
+  std::signal(SIGXFSZ, SIG_IGN);
+  rlimit old{};
+  ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &old), 0);
+  rlimit limited = old;
+  limited.rlim_cur = 4096;
+  ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &limited), 0);
+  std::string records;
+  while (records.size() < 10000) records += "  <b/>\n";
+  const std::string message = error_of([&] { file.append(records); });
+  ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &old), 0);
+  EXPECT_NE(message.find("list.xml: cannot write (File too large)"), std::string::npos) << message;
+  EXPECT_EQ(read_file(path), "<list>\n  <a/>\n</list>\n");
+  file.append("  <c/>\n");  // and it goes on from there once there is room
+  EXPECT_EQ(read_file(path), "<list>\n  <a/>\n  <c/>\n</list>\n");
+}
+
 TEST(Probes, CsvRowsUntilKeepsTheHeaderAndEarlierRows) {
   const std::string csv = "time,height\n0,1\n0.1,1.5\n0.2,2\n0.30000000000000004,2.5\n";
   EXPECT_EQ(csv_rows_until(csv, 0.2), "time,height\n0,1\n0.1,1.5\n0.2,2\n");
   EXPECT_EQ(csv_rows_until(csv, 0.0), "time,height\n0,1\n");
   EXPECT_EQ(csv_rows_until(csv, 10.0), csv);
-  // A damaged last row (cut off by a crash in an older version) ends the kept rows.
+  // A damaged row ends the kept rows; a last row without its newline was cut off in the middle of a write.
   EXPECT_EQ(csv_rows_until("time,height\n0,1\nx\n0.2,2\n", 1.0), "time,height\n0,1\n");
+  EXPECT_EQ(csv_rows_until("time,height\n0,1\n0.1,1.", 1.0), "time,height\n0,1\n");
+  EXPECT_EQ(csv_rows_until("time,height\n0,1\n0.1", 1.0), "time,height\n0,1\n");
+  EXPECT_EQ(csv_rows_until("time,hei", 1.0), "");
 }
 
 TEST(Probes, HeadersNameTheColumns) {

@@ -175,13 +175,21 @@ std::string frame_to_vtu(const Frame& f) {
   return xml;
 }
 
+std::string pvd_header() {
+  return "<?xml version=\"1.0\"?>\n"
+         "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n";
+}
+
+std::string pvd_entry(double time, const std::string& file) {
+  return fmt::format("    <DataSet timestep=\"{}\" group=\"\" part=\"0\" file=\"{}\"/>\n", time, file);
+}
+
+std::string pvd_footer() { return "  </Collection>\n</VTKFile>\n"; }
+
 std::string pvd_text(const std::vector<std::pair<double, std::string>>& entries) {
-  std::string xml = "<?xml version=\"1.0\"?>\n";
-  xml += "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n";
-  for (const auto& [time, file] : entries)
-    xml += fmt::format("    <DataSet timestep=\"{}\" group=\"\" part=\"0\" file=\"{}\"/>\n", time, file);
-  xml += "  </Collection>\n</VTKFile>\n";
-  return xml;
+  std::string xml = pvd_header();
+  for (const auto& [time, file] : entries) xml += pvd_entry(time, file);
+  return xml + pvd_footer();
 }
 
 }  // namespace sluice

@@ -36,7 +36,11 @@ Frame read_npz_frame(const std::filesystem::path& path);
 // VTK XML UnstructuredGrid (.vtu) with raw appended binary data; one vertex cell per particle.
 std::string frame_to_vtu(const Frame& f);
 
-// A ParaView collection: (time, relative file name) per frame.
+// A ParaView collection: (time, relative file name) per frame. The entries are lines between a fixed
+// header and footer, so that a run can add them one by one (AppendFile).
 std::string pvd_text(const std::vector<std::pair<double, std::string>>& entries);
+std::string pvd_header();
+std::string pvd_entry(double time, const std::string& file);
+std::string pvd_footer();
 
 }  // namespace sluice

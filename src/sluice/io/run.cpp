@@ -5,10 +5,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <map>
 #include <memory>
 
 #include "sluice/case/params.hpp"
+#include "sluice/io/append_file.hpp"
 #include "sluice/io/atomic_file.hpp"
 #include "sluice/io/checkpoint.hpp"
 #include "sluice/io/frames.hpp"
@@ -71,33 +71,18 @@ void remove_previous_outputs(const std::filesystem::path& dir, const std::string
   }
 }
 
+// Each frame's files (.npz, .vtu) are written whole; diagnostics rows, .pvd entries and probe samples
+// are appended to their files, so a frame costs the same at any point of a run.
 class Outputs {
  public:
   Outputs(const Simulation& sim, std::filesystem::path dir, bool fresh, double wall_before)
-      : dir_(std::move(dir)), name_(sim.config().name), interval_(sim.config().output_interval),
-        wall_before_(wall_before),
+      : dir_(std::move(dir)), interval_(sim.config().output_interval), wall_before_(wall_before),
+        write_npz_(sim.config().writes("npz")), write_vtk_(sim.config().writes("vtk")),
+        diagnostics_(dir_ / output_files::diagnostics, diagnostics_header),
+        pvd_(dir_ / (sim.config().name + ".pvd"), pvd_header(), pvd_footer()),
         probes_(sim.config().probes, sim.dimension(), dir_ / output_files::probes_dir, sim.time(), fresh) {
-    const Case& c = sim.config();
-    write_npz_ = c.writes("npz");
-    write_vtk_ = c.writes("vtk");
     create_directories_or_throw(dir_ / output_files::frames_dir);
-    diagnostics_ = "time,step,dt,max_speed,min_density,max_density,kinetic_energy,potential_energy,total_energy,"
-                   "total_mass,leaks,min_particle_distance,wall_time\n";
-    if (!fresh) {
-      // Frames 0..K at the regular times up to the checkpoint were written before it and are kept,
-      // with their diagnostics rows. A frame written at the checkpoint time when that was not a
-      // regular frame time (the end of the previous run, or Ctrl-C) is dropped: the continued run
-      // writes that frame number at its regular time, as the run that never stopped did.
-      const std::int64_t last = next_index_after(sim.time(), interval_) - 1;
-      const double last_time = static_cast<double>(last) * interval_;
-      std::error_code ec;
-      const auto path = dir_ / output_files::diagnostics;
-      if (std::filesystem::exists(path, ec)) diagnostics_ = csv_rows_until(read_file(path), last_time);
-      if (write_vtk_)
-        for (std::int64_t k = 0; k <= last; ++k)
-          if (std::filesystem::exists(dir_ / (frame_stem(k) + ".vtu"), ec))
-            pvd_entries_[k] = static_cast<double>(k) * interval_;
-    }
+    if (!fresh) keep_until_checkpoint(sim.time());
   }
 
   static std::string frame_stem(std::int64_t index) {
@@ -110,38 +95,65 @@ class Outputs {
     if (write_npz_) write_file_atomic(dir_ / (stem + ".npz"), frame_to_npz(frame));
     if (write_vtk_) {
       write_file_atomic(dir_ / (stem + ".vtu"), frame_to_vtu(frame));
-      pvd_entries_[index] = frame.time;
-      std::vector<std::pair<double, std::string>> entries;
-      for (const auto& [k, t] : pvd_entries_) entries.emplace_back(t, frame_stem(k) + ".vtu");
-      write_file_atomic(dir_ / (name_ + ".pvd"), pvd_text(entries));
+      pvd_.append(pvd_entry(frame.time, stem + ".vtu"));
     }
-    const Diagnostics d = sim.diagnostics();
-    diagnostics_ += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{:.3f}\n", d.time, d.step, d.dt, d.max_speed,
-                                d.min_density, d.max_density, d.kinetic_energy, d.potential_energy,
-                                d.kinetic_energy + d.potential_energy, d.total_mass, d.leaks,
-                                d.min_particle_distance, wall_before_ + wall_seconds);
-    write_file_atomic(dir_ / output_files::diagnostics, diagnostics_);
+    diagnostics_.append(diagnostics_row(sim.diagnostics(), wall_before_ + wall_seconds));
     probes_.flush();
     ++frames_written_;
   }
 
   void sample_probes(const Simulation& sim) { probes_.sample(sim); }
+
   void write_checkpoint_file(const Simulation& sim, double wall_seconds) {
-    // Probe samples up to the checkpoint must be on disk before it: a restart keeps those rows.
+    // What a restart keeps (probe samples, diagnostics rows and .pvd entries up to the checkpoint) is
+    // on disk, durably, before the checkpoint is.
     probes_.flush();
+    probes_.sync();
+    diagnostics_.sync();
+    pvd_.sync();
     write_checkpoint(dir_ / output_files::checkpoint, sim, wall_before_ + wall_seconds);
   }
+
   [[nodiscard]] int frames_written() const { return frames_written_; }
 
  private:
+  static constexpr const char* diagnostics_header =
+      "time,step,dt,max_speed,min_density,max_density,kinetic_energy,potential_energy,total_energy,total_mass,"
+      "leaks,min_particle_distance,wall_time\n";
+
+  static std::string diagnostics_row(const Diagnostics& d, double wall_seconds) {
+    return fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{:.3f}\n", d.time, d.step, d.dt, d.max_speed,
+                       d.min_density, d.max_density, d.kinetic_energy, d.potential_energy,
+                       d.kinetic_energy + d.potential_energy, d.total_mass, d.leaks, d.min_particle_distance,
+                       wall_seconds);
+  }
+
+  // Frames 0..K at the regular times up to the checkpoint were written before it and are kept, with
+  // their diagnostics rows and .pvd entries. A frame written at the checkpoint time when that was not a
+  // regular frame time (the end of the previous run, or Ctrl-C) is dropped: the continued run writes
+  // that frame number at its regular time, as the run that never stopped did.
+  void keep_until_checkpoint(double checkpoint_time) {
+    const std::int64_t last = next_index_after(checkpoint_time, interval_) - 1;
+    std::error_code ec;
+    const auto diagnostics = dir_ / output_files::diagnostics;
+    if (std::filesystem::exists(diagnostics, ec))
+      diagnostics_.resume(csv_rows_until(read_file(diagnostics), static_cast<double>(last) * interval_));
+    if (!write_vtk_) return;
+    // Rebuilt from the frames on disk rather than cut: that also mends an entry cut off by a kill.
+    std::vector<std::pair<double, std::string>> entries;
+    for (std::int64_t k = 0; k <= last; ++k)
+      if (std::filesystem::exists(dir_ / (frame_stem(k) + ".vtu"), ec))
+        entries.emplace_back(static_cast<double>(k) * interval_, frame_stem(k) + ".vtu");
+    pvd_.resume(entries.empty() ? std::string() : pvd_text(entries));
+  }
+
   std::filesystem::path dir_;
-  std::string name_;
   double interval_;
   double wall_before_;
-  bool write_npz_ = true;
-  bool write_vtk_ = true;
-  std::string diagnostics_;
-  std::map<std::int64_t, double> pvd_entries_;
+  bool write_npz_;
+  bool write_vtk_;
+  AppendFile diagnostics_;
+  AppendFile pvd_;
   ProbeRecorder probes_;
   int frames_written_ = 0;
 };
