@@ -33,14 +33,12 @@ class AppendFile {
   // it holds something else.
   void resume(const std::string& content);
 
-  // Adds whole records (each ending in '\n') before the footer. The first call creates
-  // the file, header and footer included, even with no records.
+  // Adds whole records (each ending in '\n') before the footer. The first call creates the file, header
+  // and footer included, even with no records.
   void append(std::string_view records);
 
   // Makes what was appended durable (fsync), e.g. before a checkpoint that relies on it.
   void sync();
-
-  [[nodiscard]] const std::filesystem::path& path() const { return path_; }
 
  private:
   void open_existing();
