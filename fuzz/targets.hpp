@@ -13,6 +13,8 @@
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
+#include <variant>
 #include <vector>
 
 #include "sluice/case/params.hpp"
@@ -149,6 +151,13 @@ bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
   return a.size() == b.size() && same_bits(a.data(), b.data(), a.size() * sizeof(T));
 }
 
+inline bool same_bits(const FrameField& a, const FrameField& b) {
+  if (a.short_name != b.short_name || a.values.index() != b.values.index()) return false;
+  return std::visit(
+      [&](const auto& values) { return same_bits(values, std::get<std::decay_t<decltype(values)>>(b.values)); },
+      a.values);
+}
+
 inline Outcome check_frame_bytes(const std::string& bytes) {
   Frame f;
   try {
@@ -157,9 +166,9 @@ inline Outcome check_frame_bytes(const std::string& bytes) {
     return Outcome::rejected;
   }
   const std::size_t n = f.size();
-  require(f.position.size() == 2 * n && f.velocity.size() == 2 * n && f.pressure.size() == n && f.kind.size() == n &&
-              f.id.size() == n,
-          "an accepted frame has arrays of inconsistent lengths");
+  for (const FrameField& field : f.fields)
+    require(field.element_count() == (field.vector ? static_cast<std::size_t>(f.dimension) : 1) * n,
+            "an accepted frame has arrays of inconsistent lengths");
   // What was read is written back and read again unchanged, bit for bit (NaNs included).
   Frame g;
   try {
@@ -167,11 +176,10 @@ inline Outcome check_frame_bytes(const std::string& bytes) {
   } catch (const FormatError& e) {
     throw PropertyViolation(std::string("an accepted frame, written back, is refused: ") + e.what());
   }
-  require(same_bits(&f.time, &g.time, sizeof f.time) && f.step == g.step && same_bits(&f.dx, &g.dx, sizeof f.dx) &&
-              same_bits(f.position, g.position) && same_bits(f.velocity, g.velocity) &&
-              same_bits(f.density, g.density) && same_bits(f.pressure, g.pressure) && same_bits(f.kind, g.kind) &&
-              same_bits(f.id, g.id),
-          "an accepted frame does not read back unchanged after writing it");
+  bool same = same_bits(&f.time, &g.time, sizeof f.time) && f.step == g.step && same_bits(&f.dx, &g.dx, sizeof f.dx) &&
+              f.dimension == g.dimension && f.fields.size() == g.fields.size();
+  for (std::size_t k = 0; same && k < f.fields.size(); ++k) same = same_bits(f.fields[k], g.fields[k]);
+  require(same, "an accepted frame does not read back unchanged after writing it");
   return Outcome::accepted;
 }
 

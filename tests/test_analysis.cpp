@@ -203,13 +203,13 @@ Frame lattice_frame(double t, double dx, double width, const std::function<doubl
   std::uint32_t id = 0;
   for (double x = 0.5 * dx; x < width; x += dx)
     for (double y = 0.5 * dx; y < surface(x); y += dx) {
-      f.position.push_back(x);
-      f.position.push_back(y);
-      f.velocity.insert(f.velocity.end(), {0.0, 0.0});
-      f.density.push_back(1000.0);
-      f.pressure.push_back(0.0);
-      f.kind.push_back(0);
-      f.id.push_back(id++);
+      f.position().push_back(x);
+      f.position().push_back(y);
+      f.velocity().insert(f.velocity().end(), {0.0, 0.0});
+      f.density().push_back(1000.0);
+      f.pressure().push_back(0.0);
+      f.kind().push_back(0);
+      f.id().push_back(id++);
     }
   return f;
 }

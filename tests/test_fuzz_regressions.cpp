@@ -137,12 +137,12 @@ TEST(FuzzRegressions, FixingTheChecksumsReachesTheParsingBehindThem) {
   f.time = 0.5;
   f.step = 7;
   f.dx = 0.1;
-  f.position = {1.0, 2.0};
-  f.velocity = {0.0, -1.0};
-  f.density = {1000.0};
-  f.pressure = {0.0};
-  f.kind = {0};
-  f.id = {0};
+  f.position() = {1.0, 2.0};
+  f.velocity() = {0.0, -1.0};
+  f.density() = {1000.0};
+  f.pressure() = {0.0};
+  f.kind() = {0};
+  f.id() = {0};
   std::string npz = frame_to_npz(f);
   EXPECT_EQ(fuzz::check_frame(npz), fuzz::Outcome::accepted);
   // Change the time's value: the zip CRC no longer matches, until fixed.

@@ -68,7 +68,7 @@ TEST(InstabilityGuard, StopsWithTheOffendersAndKeepsTheLastGoodState) {
     const Frame f = read_npz_frame(entry.path());
     if (f.time != cp.clock.time) continue;
     found = true;
-    for (double x : f.position) EXPECT_TRUE(std::isfinite(x));
+    for (double x : f.position()) EXPECT_TRUE(std::isfinite(x));
   }
   EXPECT_TRUE(found) << "no frame at the checkpoint's time " << cp.clock.time;
   fs::remove_all(dir);

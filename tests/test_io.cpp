@@ -1,8 +1,10 @@
-// The file formats and the atomic writer: NumPy .npz and frames, checkpoints (version and checksum),
-// the ParaView collection, temporary files, and clear errors for damaged input and unwritable output.
+// The file formats and the writers: NumPy .npz and frames, checkpoints (version and checksum), the
+// ParaView collection, atomic files and their temporary files, files that grow by appended records,
+// and clear errors for damaged input and unwritable output.
 // Our files are also read back by real numpy and meshio in the Python tests (test_outputs.py).
 #include <gtest/gtest.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <fmt/format.h>
@@ -18,6 +20,7 @@
 #include <vector>
 
 #include "sluice/case/params.hpp"
+#include "sluice/io/append_file.hpp"
 #include "sluice/io/atomic_file.hpp"
 #include "sluice/io/checkpoint.hpp"
 #include "sluice/io/frames.hpp"
@@ -62,12 +65,12 @@ Frame small_frame() {
   f.time = 0.30000000000000004;
   f.step = 1234;
   f.dx = 0.025;
-  f.position = {0.0, 0.5, 1.0, 1.5, -2.0, 2.5};
-  f.velocity = {0.1, -0.2, 0.3, -0.4, 1e-300, -0.0};
-  f.density = {1000.0, 1001.5, 999.25};
-  f.pressure = {0.0, 12.5, -3.75};
-  f.kind = {0, 0, 1};
-  f.id = {0, 1, 2};
+  f.position() = {0.0, 0.5, 1.0, 1.5, -2.0, 2.5};
+  f.velocity() = {0.1, -0.2, 0.3, -0.4, 1e-300, -0.0};
+  f.density() = {1000.0, 1001.5, 999.25};
+  f.pressure() = {0.0, 12.5, -3.75};
+  f.kind() = {0, 0, 1};
+  f.id() = {0, 1, 2};
   return f;
 }
 
@@ -158,12 +161,12 @@ TEST(Frames, NpzRoundTrip) {
   EXPECT_EQ(g.time, f.time);
   EXPECT_EQ(g.step, f.step);
   EXPECT_EQ(g.dx, f.dx);
-  EXPECT_EQ(g.position, f.position);
-  EXPECT_EQ(g.velocity, f.velocity);
-  EXPECT_EQ(g.density, f.density);
-  EXPECT_EQ(g.pressure, f.pressure);
-  EXPECT_EQ(g.kind, f.kind);
-  EXPECT_EQ(g.id, f.id);
+  EXPECT_EQ(g.position(), f.position());
+  EXPECT_EQ(g.velocity(), f.velocity());
+  EXPECT_EQ(g.density(), f.density());
+  EXPECT_EQ(g.pressure(), f.pressure());
+  EXPECT_EQ(g.kind(), f.kind());
+  EXPECT_EQ(g.id(), f.id());
 }
 
 TEST(Frames, NpzOfTheSameFrameIsTheSameBytes) {
@@ -203,12 +206,12 @@ TEST(Frames, EveryFlippedByteIsDetectedOrHarmlessNeverACrash) {
       EXPECT_EQ(g.time, f.time) << at;
       EXPECT_EQ(g.step, f.step) << at;
       EXPECT_EQ(g.dx, f.dx) << at;
-      EXPECT_EQ(g.position, f.position) << at;
-      EXPECT_EQ(g.velocity, f.velocity) << at;
-      EXPECT_EQ(g.density, f.density) << at;
-      EXPECT_EQ(g.pressure, f.pressure) << at;
-      EXPECT_EQ(g.kind, f.kind) << at;
-      EXPECT_EQ(g.id, f.id) << at;
+      EXPECT_EQ(g.position(), f.position()) << at;
+      EXPECT_EQ(g.velocity(), f.velocity()) << at;
+      EXPECT_EQ(g.density(), f.density()) << at;
+      EXPECT_EQ(g.pressure(), f.pressure()) << at;
+      EXPECT_EQ(g.kind(), f.kind()) << at;
+      EXPECT_EQ(g.id(), f.id()) << at;
     } catch (const FormatError& e) {
       EXPECT_NE(std::string(e.what()).find("f.npz: not a sluice frame"), std::string::npos) << e.what();
       ++detected;
@@ -237,6 +240,52 @@ TEST(Frames, VtuDeclaresEveryFieldAndItsAppendedBlocksFit) {
   }
   EXPECT_EQ(at, end);
   EXPECT_EQ(blocks, 9u);
+}
+
+TEST(Frames, HoldTheRegistrysFrameFieldsWithThePressureAfterTheDensity) {
+  std::vector<std::string> registry;
+  const Particles<2> none;
+  Particles<2>::fields(none, [&](const FieldSpec& spec, const auto&) {
+    if (spec.has(field_role::frame)) registry.emplace_back(spec.name);
+    if (spec.name == "density") registry.emplace_back("pressure");
+  });
+  std::vector<std::string> names, short_names;
+  for (const FrameField& field : Frame().fields) {
+    names.push_back(field.name);
+    short_names.push_back(field.short_name);
+  }
+  EXPECT_EQ(names, registry);
+  EXPECT_EQ(names, (std::vector<std::string>{"position", "velocity", "density", "pressure", "kind", "id"}));
+  EXPECT_EQ(short_names, (std::vector<std::string>{"x", "v", "rho", "p", "kind", "id"}));
+
+  // A frame of a run: every field in particle-id order, the pressure from the equation of state.
+  Simulation sim(tiny_case(), 1);
+  for (int i = 0; i < 25; ++i) sim.step();  // reordered by cell, moving
+  const Frame f = make_frame(sim);
+  const Particles<2>& p = sim.particles<2>();
+  ASSERT_EQ(f.size(), p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const std::size_t row = p.id[i];
+    EXPECT_EQ(f.id()[row], p.id[i]);
+    EXPECT_EQ(f.position()[2 * row + 1], p.position[1][i]);
+    EXPECT_EQ(f.velocity()[2 * row], p.velocity[0][i]);
+    EXPECT_EQ(f.density()[row], p.density[i]);
+    EXPECT_DOUBLE_EQ(f.pressure()[row], sim.eos().pressure(p.density[i]));
+    EXPECT_EQ(f.kind()[row], static_cast<std::uint8_t>(p.kind[i]));
+  }
+  // The .npz holds them in that order after t, step and dx; the .vtu names each one.
+  const std::string npz = frame_to_npz(f);
+  std::size_t at = 0;
+  for (const std::string name : {"t", "step", "dx", "x", "v", "rho", "p", "kind", "id"}) {
+    const auto next = npz.find(name + ".npy", at);
+    ASSERT_NE(next, std::string::npos) << name;
+    at = next + name.size() + 4;
+  }
+  const std::string vtu = frame_to_vtu(f);
+  for (const std::string name : {"velocity", "density", "pressure", "kind", "id"})
+    EXPECT_NE(vtu.find(fmt::format("Name=\"{}\"", name)), std::string::npos) << name;
+  EXPECT_THROW((void)f.values<double>("no_such_field"), std::out_of_range);
+  EXPECT_THROW((void)f.values<double>("kind"), std::out_of_range);  // stored as bytes
 }
 
 TEST(Frames, PvdListsEachFrameWithItsTime) {
@@ -452,13 +501,87 @@ TEST(AtomicFile, StaleTemporaryFilesOfDeadProcessesAreRemoved) {
   EXPECT_EQ(remove_stale_temp_files(d / "no_such_dir"), 0u);
 }
 
+ino_t inode_of(const fs::path& path) {
+  struct stat s {};
+  EXPECT_EQ(::stat(path.c_str(), &s), 0) << path;
+  return s.st_ino;
+}
+
+TEST(AppendFile, RecordsGoInBeforeTheFooterOfTheSameFile) {
+  TempDir dir;
+  const fs::path path = dir.path() / "list.xml";
+  AppendFile file(path, "<list>\n", "</list>\n");
+  EXPECT_FALSE(fs::exists(path));  // nothing until the first records
+  file.append("  <a/>\n");
+  EXPECT_EQ(read_file(path), "<list>\n  <a/>\n</list>\n");
+  const ino_t inode = inode_of(path);
+  file.append("  <b/>\n  <c/>\n");
+  file.append("");
+  file.append("  <d/>\n");
+  EXPECT_EQ(read_file(path), "<list>\n  <a/>\n  <b/>\n  <c/>\n  <d/>\n</list>\n");
+  EXPECT_EQ(inode_of(path), inode);  // the same file, grown: not a new one renamed over it
+  file.sync();
+  EXPECT_EQ(names_in(dir.path()), std::vector<std::string>{"list.xml"});
+}
+
+TEST(AppendFile, TheFirstAppendCreatesTheFileEvenWithNoRecords) {
+  TempDir dir;
+  AppendFile file(dir.path() / "series.csv", "time,height\n");
+  file.append("");
+  EXPECT_EQ(read_file(dir.path() / "series.csv"), "time,height\n");
+}
+
+TEST(AppendFile, ResumeKeepsTheSameFileOrReplacesWhatDiffers) {
+  TempDir dir;
+  const fs::path path = dir.path() / "series.csv";
+  write_file_atomic(path, "time,height\n0,1\n0.1,2\n");
+  const ino_t inode = inode_of(path);
+  AppendFile file(path, "time,height\n");
+  file.resume("time,height\n0,1\n0.1,2\n");
+  EXPECT_EQ(inode_of(path), inode);
+  file.append("0.2,3\n");
+  EXPECT_EQ(read_file(path), "time,height\n0,1\n0.1,2\n0.2,3\n");
+  EXPECT_EQ(inode_of(path), inode);
+
+  AppendFile again(path, "time,height\n");
+  again.resume("time,height\n0,1\n");  // what a restart at t = 0 keeps
+  again.append("0.1,5\n");
+  EXPECT_EQ(read_file(path), "time,height\n0,1\n0.1,5\n");
+  EXPECT_EQ(names_in(dir.path()), std::vector<std::string>{"series.csv"});
+}
+
+TEST(AppendFile, AFailedAppendIsAnIoErrorAndLeavesTheFileAsItWas) {
+  // Past a file-size limit the write stops part way (then fails with EFBIG), as on a full disk.
+  TempDir dir;
+  const fs::path path = dir.path() / "list.xml";
+  AppendFile file(path, "<list>\n", "</list>\n");
+  file.append("  <a/>\n");
+  std::signal(SIGXFSZ, SIG_IGN);
+  rlimit old{};
+  ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &old), 0);
+  rlimit limited = old;
+  limited.rlim_cur = 4096;
+  ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &limited), 0);
+  std::string records;
+  while (records.size() < 10000) records += "  <b/>\n";
+  const std::string message = error_of([&] { file.append(records); });
+  ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &old), 0);
+  EXPECT_NE(message.find("list.xml: cannot write (File too large)"), std::string::npos) << message;
+  EXPECT_EQ(read_file(path), "<list>\n  <a/>\n</list>\n");
+  file.append("  <c/>\n");  // and it goes on from there once there is room
+  EXPECT_EQ(read_file(path), "<list>\n  <a/>\n  <c/>\n</list>\n");
+}
+
 TEST(Probes, CsvRowsUntilKeepsTheHeaderAndEarlierRows) {
   const std::string csv = "time,height\n0,1\n0.1,1.5\n0.2,2\n0.30000000000000004,2.5\n";
   EXPECT_EQ(csv_rows_until(csv, 0.2), "time,height\n0,1\n0.1,1.5\n0.2,2\n");
   EXPECT_EQ(csv_rows_until(csv, 0.0), "time,height\n0,1\n");
   EXPECT_EQ(csv_rows_until(csv, 10.0), csv);
-  // A damaged last row (cut off by a crash in an older version) ends the kept rows.
+  // A damaged row ends the kept rows; a last row without its newline was cut off in the middle of a write.
   EXPECT_EQ(csv_rows_until("time,height\n0,1\nx\n0.2,2\n", 1.0), "time,height\n0,1\n");
+  EXPECT_EQ(csv_rows_until("time,height\n0,1\n0.1,1.", 1.0), "time,height\n0,1\n");
+  EXPECT_EQ(csv_rows_until("time,height\n0,1\n0.1", 1.0), "time,height\n0,1\n");
+  EXPECT_EQ(csv_rows_until("time,hei", 1.0), "");
 }
 
 TEST(Probes, HeadersNameTheColumns) {

@@ -52,12 +52,12 @@ Frame make_test_frame(double time, double dx, const std::vector<std::array<doubl
   f.dx = dx;
   for (std::size_t i = 0; i < particles.size(); ++i) {
     const auto& p = particles[i];
-    f.position.insert(f.position.end(), {p[0], p[1]});
-    f.velocity.insert(f.velocity.end(), {p[2], 0.0});
-    f.density.push_back(1000.0);
-    f.pressure.push_back(0.0);
-    f.kind.push_back(static_cast<std::uint8_t>(p[3]));
-    f.id.push_back(static_cast<std::uint32_t>(i));
+    f.position().insert(f.position().end(), {p[0], p[1]});
+    f.velocity().insert(f.velocity().end(), {p[2], 0.0});
+    f.density().push_back(1000.0);
+    f.pressure().push_back(0.0);
+    f.kind().push_back(static_cast<std::uint8_t>(p[3]));
+    f.id().push_back(static_cast<std::uint32_t>(i));
   }
   return f;
 }

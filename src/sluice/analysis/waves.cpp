@@ -12,14 +12,19 @@ namespace sluice::analysis {
 
 namespace {
 
-double top_of(const Frame& f, std::size_t i) { return f.position[2 * i + 1] + 0.5 * f.dx; }
+// The top of particle i: its centre plus half a spacing.
+double top_of(const Frame& f, const std::vector<double>& position, std::size_t i) {
+  return position[2 * i + 1] + 0.5 * f.dx;
+}
 
 // The top of the highest fluid particle within `band` of the wall at x = width (0 if none): wider than
 // one column, since the particles next to a wall do not stay on their initial lattice column.
 double height_near_wall(const Frame& f, double width, double band) {
+  const auto& position = f.position();
+  const auto& kind = f.kind();
   double top = 0.0;
   for (std::size_t i = 0; i < f.size(); ++i)
-    if (f.kind[i] == 0 && f.position[2 * i] >= width - band) top = std::max(top, top_of(f, i));
+    if (kind[i] == 0 && position[2 * i] >= width - band) top = std::max(top, top_of(f, position, i));
   return top;
 }
 
@@ -37,22 +42,26 @@ SurfaceProfile surface_profile(const Frame& f, double width, double column_width
   SurfaceProfile s;
   s.column_width = column_width;
   s.top.assign(static_cast<std::size_t>(std::max(1.0, std::ceil(width / column_width - 1e-9))), 0.0);
+  const auto& position = f.position();
+  const auto& kind = f.kind();
   for (std::size_t i = 0; i < f.size(); ++i) {
-    if (f.kind[i] != 0) continue;
-    const auto k = static_cast<long>(std::floor(f.position[2 * i] / column_width));
+    if (kind[i] != 0) continue;
+    const auto k = static_cast<long>(std::floor(position[2 * i] / column_width));
     const auto col = static_cast<std::size_t>(std::clamp<long>(k, 0, static_cast<long>(s.top.size()) - 1));
-    s.top[col] = std::max(s.top[col], top_of(f, i));
+    s.top[col] = std::max(s.top[col], top_of(f, position, i));
   }
   return s;
 }
 
 Crest crest(const Frame& f) {
+  const auto& position = f.position();
+  const auto& kind = f.kind();
   Crest c;
   bool found = false;
   for (std::size_t i = 0; i < f.size(); ++i) {
-    if (f.kind[i] != 0) continue;
-    if (!found || top_of(f, i) > c.height) {
-      c = {f.position[2 * i], top_of(f, i)};
+    if (kind[i] != 0) continue;
+    if (!found || top_of(f, position, i) > c.height) {
+      c = {position[2 * i], top_of(f, position, i)};
       found = true;
     }
   }
@@ -61,11 +70,13 @@ Crest crest(const Frame& f) {
 }
 
 double centre_of_mass_x(const Frame& f) {
+  const auto& position = f.position();
+  const auto& kind = f.kind();
   double sum = 0.0;
   std::size_t n = 0;
   for (std::size_t i = 0; i < f.size(); ++i)
-    if (f.kind[i] == 0) {
-      sum += f.position[2 * i];
+    if (kind[i] == 0) {
+      sum += position[2 * i];
       ++n;
     }
   if (n == 0) throw AnalysisError(fmt::format("the frame at t = {} s holds no fluid particle", f.time));
@@ -73,11 +84,13 @@ double centre_of_mass_x(const Frame& f) {
 }
 
 std::optional<double> wave_front(const Frame& f, const SurfaceProfile& initial, double threshold) {
+  const auto& position = f.position();
+  const auto& kind = f.kind();
   std::optional<double> front;
   for (std::size_t i = 0; i < f.size(); ++i) {
-    if (f.kind[i] != 0) continue;
-    const double x = f.position[2 * i];
-    if (top_of(f, i) > initial.at(x) + threshold && (!front || x > *front)) front = x;
+    if (kind[i] != 0) continue;
+    const double x = position[2 * i];
+    if (top_of(f, position, i) > initial.at(x) + threshold && (!front || x > *front)) front = x;
   }
   return front;
 }
@@ -135,7 +148,7 @@ WaveAnalysis start_wave_analysis(const Frame& first, double width, double g, con
   a.g = g;
   a.dx = first.dx;
   std::size_t fluid = 0;
-  for (std::size_t i = 0; i < first.size(); ++i) fluid += first.kind[i] == 0;
+  for (const std::uint8_t kind : first.kind()) fluid += kind == 0;
   a.mean_depth = static_cast<double>(fluid) * first.dx * first.dx / width;
   a.initial_surface = surface_profile(first, width, first.dx);
   a.upstream_depth = a.initial_surface.top.front();

@@ -1,7 +1,8 @@
 // Particle storage: one array per field (structure of arrays), free of global state.
 //
 // Every field is declared once, in Particles::fields(), with what happens to it; storage growth,
-// reordering and checkpoints follow from that list (io/checkpoint.cpp reads and writes it by name).
+// reordering, checkpoints and frames follow from that list (io/checkpoint.cpp and io/frames.cpp read
+// and write it by name).
 #pragma once
 
 #include <array>
@@ -23,12 +24,14 @@ inline constexpr unsigned state = 1;       // the particle's state: grows with a
 inline constexpr unsigned step_start = 2;  // moves with a reordering during a multi-stage step only
 inline constexpr unsigned checkpoint = 4;  // saved in checkpoints
 inline constexpr unsigned halo = 8;        // read by the pair loop: what a neighbouring process must send
+inline constexpr unsigned frame = 16;      // written in output frames, in registry order
 }  // namespace field_role
 
 struct FieldSpec {
-  std::string_view name;
+  std::string_view name;  // also a frame field's array name in .vtu frames
   std::string_view unit;  // "" when dimensionless
   unsigned roles;
+  std::string_view short_name = {};  // a frame field's array name in .npz frames (x, v, rho: typed in NumPy)
   [[nodiscard]] bool has(unsigned role) const { return (roles & role) != 0; }
 };
 
@@ -62,11 +65,11 @@ struct Particles {
   template <class Self, class F>
   static void fields(Self& p, F&& f) {
     using namespace field_role;
-    f(FieldSpec{"position", "m", state | checkpoint | halo}, p.position);
-    f(FieldSpec{"velocity", "m/s", state | checkpoint | halo}, p.velocity);
-    f(FieldSpec{"density", "kg/m^3", state | checkpoint | halo}, p.density);
-    f(FieldSpec{"kind", "", state | checkpoint | halo}, p.kind);
-    f(FieldSpec{"id", "", state | checkpoint | halo}, p.id);
+    f(FieldSpec{"position", "m", state | checkpoint | halo | frame, "x"}, p.position);
+    f(FieldSpec{"velocity", "m/s", state | checkpoint | halo | frame, "v"}, p.velocity);
+    f(FieldSpec{"density", "kg/m^3", state | checkpoint | halo | frame, "rho"}, p.density);
+    f(FieldSpec{"kind", "", state | checkpoint | halo | frame, "kind"}, p.kind);
+    f(FieldSpec{"id", "", state | checkpoint | halo | frame, "id"}, p.id);
     f(FieldSpec{"needs_density_repair", "", state | checkpoint}, p.needs_density_repair);
     f(FieldSpec{"acceleration", "m/s^2", 0}, p.acceleration);
     f(FieldSpec{"density_rate", "kg/m^3/s", 0}, p.density_rate);

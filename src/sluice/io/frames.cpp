@@ -3,11 +3,70 @@
 #include <fmt/format.h>
 
 #include <numeric>
+#include <type_traits>
 
 #include "sluice/io/atomic_file.hpp"
 #include "sluice/io/npz.hpp"
 
 namespace sluice {
+
+namespace {
+
+// Not stored by the particles: the equation of state gives it from the density.
+constexpr FieldSpec pressure_field{"pressure", "Pa", field_role::frame, "p"};
+
+// A field's values placed at the rows of the particles' ids (0..n-1); a Kind is stored as its byte.
+template <class Field>
+FrameField frame_field(const FieldSpec& spec, const Field& field, const std::vector<std::uint32_t>& id) {
+  FrameField out{std::string(spec.name), std::string(spec.short_name), false, {}};
+  using Element = typename Field::value_type;
+  const std::size_t n = id.size();
+  if constexpr (std::is_enum_v<Element>) {
+    std::vector<std::underlying_type_t<Element>> rows(n);
+    for (std::size_t i = 0; i < n; ++i) rows[id[i]] = static_cast<std::underlying_type_t<Element>>(field[i]);
+    out.values = std::move(rows);
+  } else if constexpr (std::is_arithmetic_v<Element>) {
+    std::vector<Element> rows(n);
+    for (std::size_t i = 0; i < n; ++i) rows[id[i]] = field[i];
+    out.values = std::move(rows);
+  } else {
+    constexpr std::size_t dim = std::tuple_size_v<Field>;
+    std::vector<typename Element::value_type> rows(dim * n);
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t d = 0; d < dim; ++d) rows[dim * id[i] + d] = field[d][i];
+    out.vector = true;
+    out.values = std::move(rows);
+  }
+  return out;
+}
+
+// The frame fields of particles in file order: the registry's fields with the frame role, and the
+// pressure right after the density it is computed from.
+template <int Dim>
+std::vector<FrameField> frame_fields(const Particles<Dim>& p, const std::vector<double>& pressure) {
+  std::vector<FrameField> fields;
+  Particles<Dim>::fields(p, [&](const FieldSpec& spec, const auto& field) {
+    if (!spec.has(field_role::frame)) return;
+    fields.push_back(frame_field(spec, field, p.id));
+    if (spec.name == "density") fields.push_back(frame_field(pressure_field, pressure, p.id));
+  });
+  return fields;
+}
+
+template <class T>
+void read_values(const NpyArray& array, std::vector<T>& values) {
+  values = array.values<T>();
+}
+
+}  // namespace
+
+Frame::Frame() : fields(frame_fields(Particles<2>{}, {})) {}
+
+std::size_t Frame::size() const {
+  for (const FrameField& field : fields)
+    if (!field.vector) return field.element_count();
+  return 0;
+}
 
 Frame make_frame(const Simulation& sim) {
   Frame f;
@@ -15,45 +74,29 @@ Frame make_frame(const Simulation& sim) {
   f.step = sim.clock().step;
   f.dx = sim.config().dx;
   f.dimension = sim.dimension();
-  sim.visit([&](const auto& solver) {
+  f.fields = sim.visit([](const auto& solver) {
     const auto& p = solver.particles();
-    constexpr int dim = std::decay_t<decltype(p)>::dim;
-    const std::size_t n = p.size();
-    f.position.resize(dim * n);
-    f.velocity.resize(dim * n);
-    f.density.resize(n);
-    f.pressure.resize(n);
-    f.kind.resize(n);
-    f.id.resize(n);
-    // Ids are 0..n-1; place each particle at the row of its id.
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::size_t row = p.id[i];
-      for (int d = 0; d < dim; ++d) {
-        f.position[dim * row + d] = p.position[d][i];
-        f.velocity[dim * row + d] = p.velocity[d][i];
-      }
-      f.density[row] = p.density[i];
-      f.pressure[row] = solver.eos().pressure(p.density[i]);
-      f.kind[row] = static_cast<std::uint8_t>(p.kind[i]);
-      f.id[row] = p.id[i];
-    }
+    std::vector<double> pressure(p.size());
+    for (std::size_t i = 0; i < p.size(); ++i) pressure[i] = solver.eos().pressure(p.density[i]);
+    return frame_fields(p, pressure);
   });
   return f;
 }
 
 std::string frame_to_npz(const Frame& f) {
   const std::size_t n = f.size();
-  return make_npz({
+  std::vector<std::pair<std::string, NpyArray>> arrays = {
       {"t", NpyArray::of(std::vector<double>{f.time}, {})},
       {"step", NpyArray::of(std::vector<std::int64_t>{f.step}, {})},
       {"dx", NpyArray::of(std::vector<double>{f.dx}, {})},
-      {"x", NpyArray::of(f.position, {n, static_cast<std::size_t>(f.dimension)})},
-      {"v", NpyArray::of(f.velocity, {n, static_cast<std::size_t>(f.dimension)})},
-      {"rho", NpyArray::of(f.density, {n})},
-      {"p", NpyArray::of(f.pressure, {n})},
-      {"kind", NpyArray::of(f.kind, {n})},
-      {"id", NpyArray::of(f.id, {n})},
-  });
+  };
+  for (const FrameField& field : f.fields) {
+    std::vector<std::size_t> shape{n};
+    if (field.vector) shape.push_back(static_cast<std::size_t>(f.dimension));
+    arrays.emplace_back(field.short_name,
+                        std::visit([&](const auto& values) { return NpyArray::of(values, shape); }, field.values));
+  }
+  return make_npz(arrays);
 }
 
 Frame frame_from_npz(const std::string& bytes, const std::string& source) {
@@ -75,21 +118,16 @@ Frame frame_from_npz(const std::string& bytes, const std::string& source) {
     const auto step = array("step").values<std::int64_t>();
     if (step.size() != 1) throw FormatError("'step' is not a scalar");
     f.step = step[0];
-    f.position = array("x").values<double>();
-    f.velocity = array("v").values<double>();
-    f.density = array("rho").values<double>();
-    f.pressure = array("p").values<double>();
-    f.kind = array("kind").values<std::uint8_t>();
-    f.id = array("id").values<std::uint32_t>();
-    const std::size_t n = f.density.size();
+    for (FrameField& field : f.fields)
+      std::visit([&](auto& values) { read_values(array(field.short_name), values); }, field.values);
     const auto& x_shape = array("x").shape;
     if (x_shape.size() != 2 || (x_shape[1] != 2 && x_shape[1] != 3))
       throw FormatError("'x' is not an array of 2D or 3D positions (N x 2 or N x 3)");
     f.dimension = static_cast<int>(x_shape[1]);
-    const std::size_t dim = x_shape[1];
-    if (f.position.size() != dim * n || f.velocity.size() != dim * n || f.pressure.size() != n ||
-        f.kind.size() != n || f.id.size() != n)
-      throw FormatError("arrays have inconsistent lengths");
+    const std::size_t n = x_shape[0];
+    for (const FrameField& field : f.fields)
+      if (field.element_count() != (field.vector ? x_shape[1] : 1) * n)
+        throw FormatError("arrays have inconsistent lengths");
     return f;
   } catch (const FormatError& e) {
     throw FormatError(fmt::format("{}: not a sluice frame: {}", source, e.what()));
@@ -105,7 +143,7 @@ namespace {
 struct AppendedArray {
   std::string name;
   std::string type;  // VTK type name
-  int components;
+  int components = 1;
   std::string bytes;
 };
 
@@ -114,28 +152,51 @@ std::string raw_bytes(const std::vector<T>& v) {
   return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
 }
 
+template <class T>
+std::string vtk_type() {
+  if constexpr (std::is_same_v<T, double>) return "Float64";
+  else if constexpr (std::is_same_v<T, std::uint32_t>) return "UInt32";
+  else {
+    static_assert(std::is_same_v<T, std::uint8_t>, "a frame field of a type the .vtu writer does not name");
+    return "UInt8";
+  }
+}
+
+// A frame field as a VTK array; vectors get three components (VTK has no 2D points or vectors).
+AppendedArray vtk_array(const FrameField& field, std::size_t dimension) {
+  return std::visit(
+      [&](const auto& values) {
+        using T = typename std::decay_t<decltype(values)>::value_type;
+        if (!field.vector) return AppendedArray{field.name, vtk_type<T>(), 1, raw_bytes(values)};
+        const std::size_t n = values.size() / dimension;
+        std::vector<T> padded(3 * n, T{});
+        for (std::size_t i = 0; i < n; ++i)
+          for (std::size_t d = 0; d < dimension; ++d) padded[3 * i + d] = values[dimension * i + d];
+        return AppendedArray{field.name, vtk_type<T>(), 3, raw_bytes(padded)};
+      },
+      field.values);
+}
+
 }  // namespace
 
 std::string frame_to_vtu(const Frame& f) {
   const std::size_t n = f.size();
-  std::vector<double> points(3 * n, 0.0), velocity(3 * n, 0.0);
-  const std::size_t dim = static_cast<std::size_t>(f.dimension);
-  for (std::size_t i = 0; i < n; ++i)
-    for (std::size_t d = 0; d < dim; ++d) {
-      points[3 * i + d] = f.position[dim * i + d];
-      velocity[3 * i + d] = f.velocity[dim * i + d];
-    }
   std::vector<std::int64_t> connectivity(n), offsets(n);
   std::iota(connectivity.begin(), connectivity.end(), 0);
   std::iota(offsets.begin(), offsets.end(), 1);
   const std::vector<std::uint8_t> cell_types(n, 1);  // VTK_VERTEX
 
-  const std::vector<AppendedArray> point_data = {
-      {"velocity", "Float64", 3, raw_bytes(velocity)}, {"density", "Float64", 1, raw_bytes(f.density)},
-      {"pressure", "Float64", 1, raw_bytes(f.pressure)}, {"kind", "UInt8", 1, raw_bytes(f.kind)},
-      {"id", "UInt32", 1, raw_bytes(f.id)},
-  };
-  const AppendedArray points_array{"Points", "Float64", 3, raw_bytes(points)};
+  AppendedArray points_array;
+  std::vector<AppendedArray> point_data;
+  for (const FrameField& field : f.fields) {
+    AppendedArray a = vtk_array(field, static_cast<std::size_t>(f.dimension));
+    if (field.name == "position") {  // the points of the grid; every other field is point data
+      points_array = std::move(a);
+      points_array.name = "Points";
+    } else {
+      point_data.push_back(std::move(a));
+    }
+  }
   const std::vector<AppendedArray> cell_arrays = {
       {"connectivity", "Int64", 1, raw_bytes(connectivity)},
       {"offsets", "Int64", 1, raw_bytes(offsets)},
@@ -175,13 +236,21 @@ std::string frame_to_vtu(const Frame& f) {
   return xml;
 }
 
+std::string pvd_header() {
+  return "<?xml version=\"1.0\"?>\n"
+         "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n";
+}
+
+std::string pvd_entry(double time, const std::string& file) {
+  return fmt::format("    <DataSet timestep=\"{}\" group=\"\" part=\"0\" file=\"{}\"/>\n", time, file);
+}
+
+std::string pvd_footer() { return "  </Collection>\n</VTKFile>\n"; }
+
 std::string pvd_text(const std::vector<std::pair<double, std::string>>& entries) {
-  std::string xml = "<?xml version=\"1.0\"?>\n";
-  xml += "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n";
-  for (const auto& [time, file] : entries)
-    xml += fmt::format("    <DataSet timestep=\"{}\" group=\"\" part=\"0\" file=\"{}\"/>\n", time, file);
-  xml += "  </Collection>\n</VTKFile>\n";
-  return xml;
+  std::string xml = pvd_header();
+  for (const auto& [time, file] : entries) xml += pvd_entry(time, file);
+  return xml + pvd_footer();
 }
 
 }  // namespace sluice

@@ -4,7 +4,6 @@
 
 #include <cmath>
 #include <limits>
-#include <sstream>
 
 #include "sluice/io/atomic_file.hpp"
 
@@ -116,38 +115,31 @@ std::vector<double> sample_probe(const Probe& probe, const Simulation& sim) {
 }
 
 std::string csv_rows_until(const std::string& csv, double t_max) {
-  std::istringstream in(csv);
-  std::string line, out;
-  bool header = true;
-  while (std::getline(in, line)) {
-    if (header) {
-      out += line + "\n";
-      header = false;
-      continue;
-    }
-    const auto comma = line.find(',');
+  std::size_t end = csv.find('\n');
+  if (end == std::string::npos) return "";
+  std::size_t kept = end + 1;  // the header
+  for (; (end = csv.find('\n', kept)) != std::string::npos; kept = end + 1) {
+    const std::string line = csv.substr(kept, end - kept);
     double t = 0.0;
     try {
-      t = std::stod(line.substr(0, comma));
+      t = std::stod(line.substr(0, line.find(',')));
     } catch (const std::exception&) {
       break;  // a malformed row: keep what came before
     }
     if (t > t_max * (1.0 + 1e-12) + 1e-300) break;
-    out += line + "\n";
   }
-  return out;
+  return csv.substr(0, kept);
 }
 
-ProbeRecorder::ProbeRecorder(const std::vector<Probe>& probes, int dimension, std::filesystem::path dir,
-                             double keep_until, bool fresh)
-    : dir_(std::move(dir)) {
+ProbeRecorder::ProbeRecorder(const std::vector<Probe>& probes, int dimension, const std::filesystem::path& dir,
+                             double keep_until, bool fresh) {
   if (probes.empty()) return;
-  create_directories_or_throw(dir_);
+  create_directories_or_throw(dir);
   for (const Probe& probe : probes) {
-    Series s{probe, probe_header(probe, dimension) + "\n", 0};
-    const auto path = dir_ / (probe.name + ".csv");
+    const auto path = dir / (probe.name + ".csv");
+    Series s{probe, AppendFile(path, probe_header(probe, dimension) + "\n"), "", 0};
     std::error_code ec;
-    if (!fresh && std::filesystem::exists(path, ec)) s.text = csv_rows_until(read_file(path), keep_until);
+    if (!fresh && std::filesystem::exists(path, ec)) s.file.resume(csv_rows_until(read_file(path), keep_until));
     if (probe.interval > 0.0) s.next_sample = static_cast<std::int64_t>(std::floor(keep_until / probe.interval + 1e-9)) + (fresh ? 0 : 1);
     series_.push_back(std::move(s));
   }
@@ -160,14 +152,21 @@ void ProbeRecorder::sample(const Simulation& sim) {
       if (t + 1e-12 * s.probe.interval < static_cast<double>(s.next_sample) * s.probe.interval) continue;
       s.next_sample = static_cast<std::int64_t>(std::floor(t / s.probe.interval + 1e-9)) + 1;
     }
-    s.text += fmt::format("{}", t);
-    for (double v : sample_probe(s.probe, sim)) s.text += fmt::format(",{}", v);
-    s.text += "\n";
+    s.rows += fmt::format("{}", t);
+    for (double v : sample_probe(s.probe, sim)) s.rows += fmt::format(",{}", v);
+    s.rows += "\n";
   }
 }
 
 void ProbeRecorder::flush() {
-  for (const Series& s : series_) write_file_atomic(dir_ / (s.probe.name + ".csv"), s.text);
+  for (Series& s : series_) {
+    s.file.append(s.rows);
+    s.rows.clear();
+  }
+}
+
+void ProbeRecorder::sync() {
+  for (Series& s : series_) s.file.sync();
 }
 
 }  // namespace sluice

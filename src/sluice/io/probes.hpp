@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "sluice/case/case.hpp"
+#include "sluice/io/append_file.hpp"
 #include "sluice/simulation.hpp"
 
 namespace sluice {
@@ -24,22 +25,24 @@ std::string probe_header(const Probe& probe, int dimension);
 class ProbeRecorder {
  public:
   // Rows already on disk after `keep_until` are dropped (a restart continues from there).
-  ProbeRecorder(const std::vector<Probe>& probes, int dimension, std::filesystem::path dir, double keep_until,
-                bool fresh);
+  ProbeRecorder(const std::vector<Probe>& probes, int dimension, const std::filesystem::path& dir,
+                double keep_until, bool fresh);
   void sample(const Simulation& sim);  // called after every step; honours each probe's interval
-  void flush();                        // rewrites each CSV atomically with all rows so far
+  void flush();                        // appends the rows sampled since the last flush to each CSV
+  void sync();                         // makes the flushed rows durable
 
  private:
   struct Series {
     Probe probe;
-    std::string text;  // CSV so far
+    AppendFile file;
+    std::string rows;  // sampled since the last flush
     std::int64_t next_sample = 0;
   };
-  std::filesystem::path dir_;
   std::vector<Series> series_;
 };
 
-// Keeps the header and the rows whose first column is <= t_max; used to continue CSVs on restart.
+// Keeps the header and the rows whose first column is <= t_max, whole lines only (a last line without
+// its newline was cut off); used to continue CSVs on restart. The result is a prefix of `csv`.
 std::string csv_rows_until(const std::string& csv, double t_max);
 
 }  // namespace sluice

@@ -5,10 +5,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <map>
 #include <memory>
 
 #include "sluice/case/params.hpp"
+#include "sluice/io/append_file.hpp"
 #include "sluice/io/atomic_file.hpp"
 #include "sluice/io/checkpoint.hpp"
 #include "sluice/io/frames.hpp"
@@ -71,33 +71,18 @@ void remove_previous_outputs(const std::filesystem::path& dir, const std::string
   }
 }
 
+// Each frame's files (.npz, .vtu) are written whole; diagnostics rows, .pvd entries and probe samples
+// are appended to their files, so a frame costs the same at any point of a run.
 class Outputs {
  public:
   Outputs(const Simulation& sim, std::filesystem::path dir, bool fresh, double wall_before)
-      : dir_(std::move(dir)), name_(sim.config().name), interval_(sim.config().output_interval),
-        wall_before_(wall_before),
+      : dir_(std::move(dir)), interval_(sim.config().output_interval), wall_before_(wall_before),
+        write_npz_(sim.config().writes("npz")), write_vtk_(sim.config().writes("vtk")),
+        diagnostics_(dir_ / output_files::diagnostics, diagnostics_header),
+        pvd_(dir_ / (sim.config().name + ".pvd"), pvd_header(), pvd_footer()),
         probes_(sim.config().probes, sim.dimension(), dir_ / output_files::probes_dir, sim.time(), fresh) {
-    const Case& c = sim.config();
-    write_npz_ = c.writes("npz");
-    write_vtk_ = c.writes("vtk");
     create_directories_or_throw(dir_ / output_files::frames_dir);
-    diagnostics_ = "time,step,dt,max_speed,min_density,max_density,kinetic_energy,potential_energy,total_energy,"
-                   "total_mass,leaks,min_particle_distance,wall_time\n";
-    if (!fresh) {
-      // Frames 0..K at the regular times up to the checkpoint were written before it and are kept,
-      // with their diagnostics rows. A frame written at the checkpoint time when that was not a
-      // regular frame time (the end of the previous run, or Ctrl-C) is dropped: the continued run
-      // writes that frame number at its regular time, as the run that never stopped did.
-      const std::int64_t last = next_index_after(sim.time(), interval_) - 1;
-      const double last_time = static_cast<double>(last) * interval_;
-      std::error_code ec;
-      const auto path = dir_ / output_files::diagnostics;
-      if (std::filesystem::exists(path, ec)) diagnostics_ = csv_rows_until(read_file(path), last_time);
-      if (write_vtk_)
-        for (std::int64_t k = 0; k <= last; ++k)
-          if (std::filesystem::exists(dir_ / (frame_stem(k) + ".vtu"), ec))
-            pvd_entries_[k] = static_cast<double>(k) * interval_;
-    }
+    if (!fresh) keep_until_checkpoint(sim.time());
   }
 
   static std::string frame_stem(std::int64_t index) {
@@ -110,38 +95,65 @@ class Outputs {
     if (write_npz_) write_file_atomic(dir_ / (stem + ".npz"), frame_to_npz(frame));
     if (write_vtk_) {
       write_file_atomic(dir_ / (stem + ".vtu"), frame_to_vtu(frame));
-      pvd_entries_[index] = frame.time;
-      std::vector<std::pair<double, std::string>> entries;
-      for (const auto& [k, t] : pvd_entries_) entries.emplace_back(t, frame_stem(k) + ".vtu");
-      write_file_atomic(dir_ / (name_ + ".pvd"), pvd_text(entries));
+      pvd_.append(pvd_entry(frame.time, stem + ".vtu"));
     }
-    const Diagnostics d = sim.diagnostics();
-    diagnostics_ += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{:.3f}\n", d.time, d.step, d.dt, d.max_speed,
-                                d.min_density, d.max_density, d.kinetic_energy, d.potential_energy,
-                                d.kinetic_energy + d.potential_energy, d.total_mass, d.leaks,
-                                d.min_particle_distance, wall_before_ + wall_seconds);
-    write_file_atomic(dir_ / output_files::diagnostics, diagnostics_);
+    diagnostics_.append(diagnostics_row(sim.diagnostics(), wall_before_ + wall_seconds));
     probes_.flush();
     ++frames_written_;
   }
 
   void sample_probes(const Simulation& sim) { probes_.sample(sim); }
+
   void write_checkpoint_file(const Simulation& sim, double wall_seconds) {
-    // Probe samples up to the checkpoint must be on disk before it: a restart keeps those rows.
+    // What a restart keeps (probe samples, diagnostics rows and .pvd entries up to the checkpoint) is
+    // on disk, durably, before the checkpoint is.
     probes_.flush();
+    probes_.sync();
+    diagnostics_.sync();
+    pvd_.sync();
     write_checkpoint(dir_ / output_files::checkpoint, sim, wall_before_ + wall_seconds);
   }
+
   [[nodiscard]] int frames_written() const { return frames_written_; }
 
  private:
+  static constexpr const char* diagnostics_header =
+      "time,step,dt,max_speed,min_density,max_density,kinetic_energy,potential_energy,total_energy,total_mass,"
+      "leaks,min_particle_distance,wall_time\n";
+
+  static std::string diagnostics_row(const Diagnostics& d, double wall_seconds) {
+    return fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{:.3f}\n", d.time, d.step, d.dt, d.max_speed,
+                       d.min_density, d.max_density, d.kinetic_energy, d.potential_energy,
+                       d.kinetic_energy + d.potential_energy, d.total_mass, d.leaks, d.min_particle_distance,
+                       wall_seconds);
+  }
+
+  // Frames 0..K at the regular times up to the checkpoint were written before it and are kept, with
+  // their diagnostics rows and .pvd entries. A frame written at the checkpoint time when that was not a
+  // regular frame time (the end of the previous run, or Ctrl-C) is dropped: the continued run writes
+  // that frame number at its regular time, as the run that never stopped did.
+  void keep_until_checkpoint(double checkpoint_time) {
+    const std::int64_t last = next_index_after(checkpoint_time, interval_) - 1;
+    std::error_code ec;
+    const auto diagnostics = dir_ / output_files::diagnostics;
+    if (std::filesystem::exists(diagnostics, ec))
+      diagnostics_.resume(csv_rows_until(read_file(diagnostics), static_cast<double>(last) * interval_));
+    if (!write_vtk_) return;
+    // Rebuilt from the frames on disk rather than cut: that also mends an entry cut off by a kill.
+    std::vector<std::pair<double, std::string>> entries;
+    for (std::int64_t k = 0; k <= last; ++k)
+      if (std::filesystem::exists(dir_ / (frame_stem(k) + ".vtu"), ec))
+        entries.emplace_back(static_cast<double>(k) * interval_, frame_stem(k) + ".vtu");
+    pvd_.resume(entries.empty() ? std::string() : pvd_text(entries));
+  }
+
   std::filesystem::path dir_;
-  std::string name_;
   double interval_;
   double wall_before_;
-  bool write_npz_ = true;
-  bool write_vtk_ = true;
-  std::string diagnostics_;
-  std::map<std::int64_t, double> pvd_entries_;
+  bool write_npz_;
+  bool write_vtk_;
+  AppendFile diagnostics_;
+  AppendFile pvd_;
   ProbeRecorder probes_;
   int frames_written_ = 0;
 };
@@ -184,8 +196,6 @@ class Progress {
   double next_line_t_ = -1e300;
 };
 
-}  // namespace
-
 std::string describe_instability(const std::string& failure, const Health& health, double time, std::int64_t step,
                                  const Simulation& good, std::int64_t frame, const std::filesystem::path& dir) {
   std::string m = fmt::format("the run became unstable at t = {:.6g} s (step {}): ", time, step);
@@ -212,124 +222,210 @@ std::string describe_instability(const std::string& failure, const Health& healt
   return m;
 }
 
-RunResult run_case(const Case& requested, const RunOptions& options, std::ostream& log) {
-  const auto wall_start = steady::now();
-  std::unique_ptr<Simulation> sim;
-  double wall_before = 0.0;
-  const bool fresh = !options.restart;
-  if (options.restart) {
-    const std::string source = options.restart->string();
-    Checkpoint cp = read_checkpoint(*options.restart);
-    for (const std::string& assignment : options.restart_overrides) {
-      const std::string key = assignment.substr(0, assignment.find('='));
-      const auto first = key.find_first_not_of(" \t");
-      const auto last = key.find_last_not_of(" \t");
-      if (first == std::string::npos || key.substr(first, last - first + 1) != "time.end")
-        throw CaseError(fmt::format(
-            "--set {}: a restart continues the case stored in {}; only time.end can be changed (to run on past "
-            "its end)",
-            assignment, source));
-      apply_override(cp.config, assignment);
-    }
-    if (cp.clock.time >= stop_time(cp.config))
+// A restart's --set assignments to the case stored in its checkpoint: only time.end may change.
+void apply_restart_overrides(Case& stored, const std::vector<std::string>& assignments, const std::string& source) {
+  for (const std::string& assignment : assignments) {
+    const std::string key = assignment.substr(0, assignment.find('='));
+    const auto first = key.find_first_not_of(" \t");
+    const auto last = key.find_last_not_of(" \t");
+    if (first == std::string::npos || key.substr(first, last - first + 1) != "time.end")
       throw CaseError(fmt::format(
-          "{}: the checkpoint is at t = {} s, already at the case's end (time.end = {} s); to run on, give a later "
-          "end: sluice run --restart {} --set time.end=<seconds>",
-          source, cp.clock.time, cp.config.end_time, source));
-    wall_before = cp.wall_seconds;
-    sim = std::make_unique<Simulation>(cp.config, std::move(cp.particles), cp.clock, options.threads);
-  } else {
-    sim = std::make_unique<Simulation>(requested, options.threads);
+          "--set {}: a restart continues the case stored in {}; only time.end can be changed (to run on past "
+          "its end)",
+          assignment, source));
+    apply_override(stored, assignment);
   }
-  const Case& c = sim->config();
+}
 
-  create_directories_or_throw(options.output_dir);
+// Where a run starts: a case at t = 0, or the state in a checkpoint.
+struct Start {
+  std::unique_ptr<Simulation> sim;
+  double wall_before = 0.0;  // wall time of the runs before a restart
+};
+
+Start start_from_checkpoint(const RunOptions& options) {
+  const std::string source = options.restart->string();
+  Checkpoint cp = read_checkpoint(*options.restart);
+  apply_restart_overrides(cp.config, options.restart_overrides, source);
+  if (cp.clock.time >= stop_time(cp.config))
+    throw CaseError(fmt::format(
+        "{}: the checkpoint is at t = {} s, already at the case's end (time.end = {} s); to run on, give a later "
+        "end: sluice run --restart {} --set time.end=<seconds>",
+        source, cp.clock.time, cp.config.end_time, source));
+  return {std::make_unique<Simulation>(cp.config, std::move(cp.particles), cp.clock, options.threads),
+          cp.wall_seconds};
+}
+
+void prepare_output_dir(const std::filesystem::path& dir, const std::string& case_name, bool fresh) {
+  create_directories_or_throw(dir);
   for (const char* sub : {".", output_files::frames_dir, output_files::probes_dir})
-    remove_stale_temp_files(options.output_dir / sub);
-  if (fresh) remove_previous_outputs(options.output_dir, c.name);
-  Outputs outputs(*sim, options.output_dir, fresh, wall_before);
+    remove_stale_temp_files(dir / sub);
+  if (fresh) remove_previous_outputs(dir, case_name);
+}
 
-  RunResult result;
-  result.particles = sim->particle_count();
-  result.force_evaluations_per_step = sim->force_evaluations_per_step();
-  result.rest_density = c.rest_density;
-  result.sound_speed = c.sound_speed;
-  result.output_dir = options.output_dir;
-  result.case_name = c.name;
+// The next frame and checkpoint, as indices k of the times k * interval, and the time the run stops at.
+class Schedule {
+ public:
+  Schedule(const Case& c, double t)
+      : frame_interval_(c.output_interval), checkpoint_interval_(c.checkpoint_interval), end_(stop_time(c)),
+        next_frame_(next_index_after(t, frame_interval_)),
+        next_checkpoint_(checkpoint_interval_ > 0 ? next_index_after(t, checkpoint_interval_) : 0) {}
 
-  const double interval = c.output_interval;
-  std::int64_t next_frame = next_index_after(sim->time(), interval);
-  if (fresh) {
-    outputs.sample_probes(*sim);
-    outputs.write_frame(0, *sim, 0.0);
+  [[nodiscard]] double end() const { return end_; }
+  [[nodiscard]] std::int64_t next_frame() const { return next_frame_; }
+
+  // The time the next step must end on if it would pass it: the next frame, checkpoint or the end.
+  [[nodiscard]] double step_limit() const {
+    const double limit = std::min(frame_time(), end_);
+    return checkpoint_interval_ > 0 ? std::min(limit, checkpoint_time()) : limit;
   }
-  const double checkpoint_interval = c.checkpoint_interval;
-  std::int64_t next_checkpoint =
-      checkpoint_interval > 0 ? next_index_after(sim->time(), checkpoint_interval) : std::int64_t{0};
 
-  const double end_time = stop_time(c);
-  Progress progress(options.progress, log, sim->time(), end_time, result.particles);
-  const auto loop_start = steady::now();
-  // A restart's state at the checkpoint time is already on disk (or, at a non-frame time, needs no frame).
-  bool frame_is_current = true;
-  while (sim->time() < end_time) {
-    if (options.stop_requested != nullptr && options.stop_requested->load()) {
-      result.interrupted = true;
-      break;
+  // A frame is due at its time, and at the end (which may fall between frame times).
+  [[nodiscard]] bool frame_due(double t) const { return t >= frame_time() || t >= end_; }
+  void frame_written(double t) {
+    if (t >= frame_time()) ++next_frame_;
+  }
+
+  [[nodiscard]] bool checkpoint_due(double t) const { return checkpoint_interval_ > 0 && t >= checkpoint_time(); }
+  void checkpoint_written(double t) { next_checkpoint_ = next_index_after(t, checkpoint_interval_); }
+
+ private:
+  [[nodiscard]] double frame_time() const { return static_cast<double>(next_frame_) * frame_interval_; }
+  [[nodiscard]] double checkpoint_time() const {
+    return static_cast<double>(next_checkpoint_) * checkpoint_interval_;
+  }
+
+  double frame_interval_;
+  double checkpoint_interval_;
+  double end_;
+  std::int64_t next_frame_;
+  std::int64_t next_checkpoint_;
+};
+
+// A run from its start to its end (or Ctrl-C): the steps, and the outputs due after each.
+class Run {
+ public:
+  Run(Start start, const RunOptions& options, std::ostream& log, steady::time_point wall_start)
+      : options_(options), wall_start_(wall_start), fresh_(!options.restart), sim_(std::move(start.sim)),
+        outputs_(*sim_, options.output_dir, fresh_, start.wall_before), schedule_(sim_->config(), sim_->time()),
+        progress_(options.progress, log, sim_->time(), schedule_.end(), sim_->particle_count()) {}
+
+  RunResult to_end() {
+    if (fresh_) {
+      outputs_.sample_probes(*sim_);
+      outputs_.write_frame(0, *sim_, 0.0);
     }
-    const double frame_time = static_cast<double>(next_frame) * interval;
-    double limit = std::min(frame_time, end_time);
-    if (checkpoint_interval > 0)
-      limit = std::min(limit, static_cast<double>(next_checkpoint) * checkpoint_interval);
-    // The instability guard: if the step leaves any particle non-finite, far outside the tank or at
-    // an absurd density, go back to the state before it, save that and stop.
+    loop_start_ = steady::now();
+    while (sim_->time() < schedule_.end()) {
+      if (options_.stop_requested != nullptr && options_.stop_requested->load()) {
+        interrupted_ = true;
+        break;
+      }
+      step();
+      write_due_outputs();
+      progress_.update(*sim_, steps_, seconds_since(loop_start_));
+    }
+    progress_.update(*sim_, steps_, seconds_since(loop_start_), true);
+    progress_.finish();
+    return finish();
+  }
+
+ private:
+  [[nodiscard]] double wall() const { return seconds_since(wall_start_); }
+
+  // The instability guard: if the step leaves any particle non-finite, far outside the tank or at an
+  // absurd density, go back to the state before it, save that and stop.
+  void step() {
     std::string failure;
     try {
-      sim->step(limit);
+      sim_->step(schedule_.step_limit());
     } catch (const std::runtime_error& e) {
       failure = e.what();
     }
-    const Health health = failure.empty() ? sim->check_health() : Health{};
-    if (!failure.empty() || !health.ok()) {
-      const double bad_time = sim->time();
-      const std::int64_t bad_step = sim->clock().step;
-      sim->restore_saved_state();
-      outputs.write_frame(next_frame, *sim, seconds_since(wall_start));
-      outputs.write_checkpoint_file(*sim, seconds_since(wall_start));
-      progress.finish();
-      throw InstabilityError(describe_instability(failure, health, bad_time, bad_step, *sim, next_frame,
-                                                  options.output_dir));
-    }
-    ++result.steps_this_run;
-    frame_is_current = false;
-    outputs.sample_probes(*sim);
-    if (sim->time() >= frame_time || sim->time() >= end_time) {
-      outputs.write_frame(next_frame, *sim, seconds_since(wall_start));
-      frame_is_current = true;
-      if (sim->time() >= frame_time) ++next_frame;
-    }
-    if (checkpoint_interval > 0 && sim->time() >= static_cast<double>(next_checkpoint) * checkpoint_interval) {
-      outputs.write_checkpoint_file(*sim, seconds_since(wall_start));
-      next_checkpoint = next_index_after(sim->time(), checkpoint_interval);
-    }
-    progress.update(*sim, result.steps_this_run, seconds_since(loop_start));
+    const Health health = failure.empty() ? sim_->check_health() : Health{};
+    if (!failure.empty() || !health.ok()) stop_unstable(failure, health);
+    ++steps_;
+    frame_is_current_ = false;
+    outputs_.sample_probes(*sim_);
   }
-  progress.update(*sim, result.steps_this_run, seconds_since(loop_start), true);
-  progress.finish();
+
+  [[noreturn]] void stop_unstable(const std::string& failure, const Health& health) {
+    const double bad_time = sim_->time();
+    const std::int64_t bad_step = sim_->clock().step;
+    sim_->restore_saved_state();
+    outputs_.write_frame(schedule_.next_frame(), *sim_, wall());
+    outputs_.write_checkpoint_file(*sim_, wall());
+    progress_.finish();
+    throw InstabilityError(describe_instability(failure, health, bad_time, bad_step, *sim_, schedule_.next_frame(),
+                                                options_.output_dir));
+  }
+
+  void write_due_outputs() {
+    const double t = sim_->time();
+    if (schedule_.frame_due(t)) {
+      outputs_.write_frame(schedule_.next_frame(), *sim_, wall());
+      frame_is_current_ = true;
+      schedule_.frame_written(t);
+    }
+    if (schedule_.checkpoint_due(t)) {
+      outputs_.write_checkpoint_file(*sim_, wall());
+      schedule_.checkpoint_written(t);
+    }
+  }
 
   // What a normal end writes, also after Ctrl-C: the last frame, a checkpoint, the summary.
-  if (!frame_is_current) outputs.write_frame(next_frame, *sim, seconds_since(wall_start));
-  outputs.write_checkpoint_file(*sim, seconds_since(wall_start));
+  RunResult finish() {
+    if (!frame_is_current_) outputs_.write_frame(schedule_.next_frame(), *sim_, wall());
+    outputs_.write_checkpoint_file(*sim_, wall());
+    RunResult r = result();
+    write_file_atomic(options_.output_dir / output_files::summary, format_summary(r));
+    return r;
+  }
 
-  result.wall_seconds = seconds_since(wall_start);
-  const double loop_seconds = seconds_since(loop_start);
-  result.loop_seconds = loop_seconds;
-  result.particle_steps_per_second =
-      loop_seconds > 0 ? static_cast<double>(result.particles) * static_cast<double>(result.steps_this_run) / loop_seconds : 0.0;
-  result.final = sim->diagnostics();
-  result.frames_written = outputs.frames_written();
-  write_file_atomic(options.output_dir / output_files::summary, format_summary(result));
-  return result;
+  [[nodiscard]] RunResult result() const {
+    const Case& c = sim_->config();
+    RunResult r;
+    r.final = sim_->diagnostics();
+    r.particles = sim_->particle_count();
+    r.steps_this_run = steps_;
+    r.force_evaluations_per_step = sim_->force_evaluations_per_step();
+    r.wall_seconds = wall();
+    r.loop_seconds = seconds_since(loop_start_);
+    r.particle_steps_per_second = r.loop_seconds > 0 ? static_cast<double>(r.particles) *
+                                                           static_cast<double>(steps_) / r.loop_seconds
+                                                     : 0.0;
+    r.frames_written = outputs_.frames_written();
+    r.interrupted = interrupted_;
+    r.rest_density = c.rest_density;
+    r.sound_speed = c.sound_speed;
+    r.output_dir = options_.output_dir;
+    r.case_name = c.name;
+    return r;
+  }
+
+  const RunOptions& options_;
+  steady::time_point wall_start_;
+  steady::time_point loop_start_;
+  bool fresh_;
+  std::unique_ptr<Simulation> sim_;
+  Outputs outputs_;
+  Schedule schedule_;
+  Progress progress_;
+  std::int64_t steps_ = 0;
+  bool interrupted_ = false;
+  // A restart's state at the checkpoint time is already on disk (or, at a non-frame time, needs no frame).
+  bool frame_is_current_ = true;
+};
+
+}  // namespace
+
+RunResult run_case(const Case& requested, const RunOptions& options, std::ostream& log) {
+  const auto wall_start = steady::now();
+  Start start = options.restart ? start_from_checkpoint(options)
+                                : Start{std::make_unique<Simulation>(requested, options.threads)};
+  prepare_output_dir(options.output_dir, start.sim->config().name, !options.restart);
+  Run run(std::move(start), options, log, wall_start);
+  return run.to_end();
 }
 
 std::string format_summary(const RunResult& r) {

@@ -188,18 +188,22 @@ FrameData extract(const Frame& frame, Field field) {
   d.x.resize(n);
   d.y.resize(n);
   d.value.resize(n);
-  d.kind = frame.kind;
+  d.kind = frame.kind();
+  const auto& position = frame.position();
+  const auto& velocity = frame.velocity();
+  const auto& pressure = frame.pressure();
+  const auto& density = frame.density();
   for (std::size_t i = 0; i < n; ++i) {
-    d.x[i] = static_cast<float>(frame.position[2 * i]);
-    d.y[i] = static_cast<float>(frame.position[2 * i + 1]);
-    const double vx = frame.velocity[2 * i], vy = frame.velocity[2 * i + 1];
+    d.x[i] = static_cast<float>(position[2 * i]);
+    d.y[i] = static_cast<float>(position[2 * i + 1]);
+    const double vx = velocity[2 * i], vy = velocity[2 * i + 1];
     double v = 0.0;
     switch (field) {
       case Field::vx: v = vx; break;
       case Field::vy: v = vy; break;
       case Field::speed: v = std::hypot(vx, vy); break;
-      case Field::pressure: v = frame.pressure[i]; break;
-      case Field::density: v = frame.density[i]; break;
+      case Field::pressure: v = pressure[i]; break;
+      case Field::density: v = density[i]; break;
     }
     d.value[i] = static_cast<float>(v * info.scale);
   }
