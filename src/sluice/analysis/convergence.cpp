@@ -9,7 +9,7 @@
 #include "sluice/analysis/svg_plot.hpp"
 #include "sluice/analysis/table.hpp"
 #include "sluice/analysis/waves.hpp"
-#include "sluice/case/params.hpp"
+#include "sluice/case/overrides.hpp"
 #include "sluice/io/atomic_file.hpp"
 #include "sluice/simulation.hpp"
 

@@ -12,7 +12,8 @@
 #include "sluice/analysis/reference_data.hpp"
 #include "sluice/analysis/svg_plot.hpp"
 #include "sluice/analysis/table.hpp"
-#include "sluice/case/params.hpp"
+#include "sluice/case/builtin_cases.hpp"
+#include "sluice/case/overrides.hpp"
 #include "sluice/io/atomic_file.hpp"
 
 namespace fs = std::filesystem;

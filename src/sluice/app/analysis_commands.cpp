@@ -13,7 +13,9 @@
 #include "sluice/analysis/validation.hpp"
 #include "sluice/analysis/wave_report.hpp"
 #include "sluice/app/commands.hpp"
-#include "sluice/case/params.hpp"
+#include "sluice/case/builtin_cases.hpp"
+#include "sluice/case/load.hpp"
+#include "sluice/case/overrides.hpp"
 #include "sluice/io/checkpoint.hpp"
 
 namespace fs = std::filesystem;

@@ -9,7 +9,8 @@
 #include <unistd.h>
 
 #include "sluice/app/commands.hpp"
-#include "sluice/case/params.hpp"
+#include "sluice/case/case_error.hpp"
+#include "sluice/case/suggest.hpp"
 #include "sluice/io/atomic_file.hpp"
 #include "sluice/io/npz.hpp"
 

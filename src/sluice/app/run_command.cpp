@@ -11,7 +11,10 @@
 #include <memory>
 
 #include "sluice/app/commands.hpp"
-#include "sluice/case/params.hpp"
+#include "sluice/case/builtin_cases.hpp"
+#include "sluice/case/case_template.hpp"
+#include "sluice/case/load.hpp"
+#include "sluice/case/overrides.hpp"
 #include "sluice/io/atomic_file.hpp"
 #include "sluice/io/run.hpp"
 
