@@ -17,10 +17,10 @@
 using namespace sluice;
 
 int main(int argc, char** argv) {
-  // OpenMP threads that spin while waiting at a barrier take the cores other processes need, and on a
-  // busy machine a 2-thread run then took 4x longer than a 1-thread one (14.4 s vs 3.6 s measured).
-  // The OpenMP runtime reads OMP_WAIT_POLICY once, before main(), so unless the user chose a policy
-  // sluice restarts itself once with the passive one (threads sleep while they wait).
+  // OpenMP threads that spin while waiting at a barrier take the cores other processes need: on a
+  // busy machine a 2-thread run can take several times longer than a 1-thread one. The OpenMP
+  // runtime reads OMP_WAIT_POLICY once, before main(), so unless the user chose a policy sluice
+  // restarts itself once with the passive one (threads sleep while they wait).
   if (std::getenv("OMP_WAIT_POLICY") == nullptr && ::setenv("OMP_WAIT_POLICY", "PASSIVE", 1) == 0)
     ::execv("/proc/self/exe", argv);  // returns only if it failed; then carry on as we are
 
