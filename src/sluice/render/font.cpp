@@ -8,7 +8,7 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "sluice/render/render.hpp"
+#include "sluice/render/render_error.hpp"
 
 #ifndef SLUICE_FONT_FILE
 #error "SLUICE_FONT_FILE must name the default TrueType font (set by CMake)"

@@ -18,7 +18,7 @@ std::filesystem::path default_font_file();
 
 class Font {
  public:
-  // Throws RenderError (render.hpp) if the file is missing or not a font FreeType reads.
+  // Throws RenderError (render_error.hpp) if the file is missing or not a font FreeType reads.
   Font(const std::filesystem::path& file, int pixel_size);
 
   [[nodiscard]] int pixel_size() const { return pixel_size_; }
