@@ -103,7 +103,6 @@ std::vector<Transit> find_transits(const Series& crest_x, double width) {
       t.t_end = crest_x.t[j];
       const LineFit fit = fit_line(crest_x, t.t_start, t.t_end);
       t.speed = std::abs(fit.slope);
-      t.samples = fit.points;
       out.push_back(t);
     }
     i = j + 1;
@@ -132,7 +131,6 @@ WaveAnalysis start_wave_analysis(const Frame& first, double width, double g, con
   if (!(width > 0.0) || !(g > 0.0)) throw AnalysisError(fmt::format("tank width {} and gravity {} must be positive", width, g));
   WaveAnalysis a;
   a.width = width;
-  a.g = g;
   a.dx = first.dx;
   std::size_t fluid = 0;
   for (std::size_t i = 0; i < first.size(); ++i) fluid += first.kind[i] == 0;
