@@ -42,7 +42,4 @@ class Font {
   std::map<char32_t, Glyph> glyphs_;
 };
 
-// Decodes UTF-8 (invalid bytes become U+FFFD).
-std::u32string decode_utf8(std::string_view s);
-
 }  // namespace sluice::render
