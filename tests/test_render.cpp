@@ -13,8 +13,14 @@
 #include "sluice/io/atomic_file.hpp"
 #include "sluice/io/frames.hpp"
 #include "sluice/io/npz.hpp"
+#include "sluice/render/color_range.hpp"
 #include "sluice/render/encoders.hpp"
+#include "sluice/render/fields.hpp"
+#include "sluice/render/frame_renderer.hpp"
+#include "sluice/render/options.hpp"
 #include "sluice/render/render.hpp"
+#include "sluice/render/render_error.hpp"
+#include "sluice/render/ticks.hpp"
 
 using namespace sluice;
 using namespace sluice::render;

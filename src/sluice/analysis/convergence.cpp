@@ -9,7 +9,7 @@
 #include "sluice/analysis/svg_plot.hpp"
 #include "sluice/analysis/table.hpp"
 #include "sluice/analysis/waves.hpp"
-#include "sluice/case/params.hpp"
+#include "sluice/case/overrides.hpp"
 #include "sluice/io/atomic_file.hpp"
 #include "sluice/simulation.hpp"
 
@@ -47,6 +47,8 @@ namespace {
 
 std::string dx_name(double dx) { return fmt::format("dx_{:g}", dx); }
 
+constexpr const char* far_wall_probe = "convergence_far_wall";
+
 std::string number(double v, const char* format = "{:.4g}") {
   return std::isfinite(v) ? fmt::format(fmt::runtime(format), v) : std::string("-");
 }
@@ -60,14 +62,14 @@ PlotSeries slope_line(double order, double dx_point, double error_point, double 
   return s;
 }
 
-void write_outputs(const ConvergenceStudy& study, const ConvergenceOptions& options) {
-  write_file_atomic(options.output_dir / "convergence.csv", convergence_csv(study));
-
-  Plot errors;
-  errors.title = fmt::format("Convergence: {} (h/dx = {:g})", study.case_name, study.h_over_dx);
-  errors.x_label = "dx (m)";
-  errors.y_label = "error against the finest run";
-  errors.log_x = errors.log_y = true;
+// The errors against the finest run on log-log axes, with slopes of order 1 and 2 through the finest
+// point; no series if no error could be measured.
+Plot errors_plot(const ConvergenceStudy& study) {
+  Plot plot;
+  plot.title = fmt::format("Convergence: {} (h/dx = {:g})", study.case_name, study.h_over_dx);
+  plot.x_label = "dx (m)";
+  plot.y_label = "error against the finest run";
+  plot.log_x = plot.log_y = true;
   PlotSeries front = curve("front position, RMS (m)", {}, {}, PlotSeries::Style::line_and_markers);
   PlotSeries arrival = curve("far-wall arrival time (s)", {}, {}, PlotSeries::Style::line_and_markers);
   for (const auto& l : study.levels) {
@@ -80,33 +82,37 @@ void write_outputs(const ConvergenceStudy& study, const ConvergenceOptions& opti
       arrival.y.push_back(l.arrival_error);
     }
   }
-  if (!front.x.empty()) errors.series.push_back(front);
-  if (!arrival.x.empty()) errors.series.push_back(arrival);
-  if (!errors.series.empty()) {
+  if (!front.x.empty()) plot.series.push_back(front);
+  if (!arrival.x.empty()) plot.series.push_back(arrival);
+  if (!plot.series.empty()) {
     // Copied: the pushes below may reallocate the series.
-    const double dx_point = errors.series.front().x.back(), error_point = errors.series.front().y.back();
-    const double lo = dx_point / 1.5, hi = errors.series.front().x.front() * 1.5;
-    errors.series.push_back(slope_line(1.0, dx_point, error_point, lo, hi));
-    errors.series.push_back(slope_line(2.0, dx_point, error_point, lo, hi));
-    errors.legend = Plot::LegendAt::top_left;
+    const double dx_point = plot.series.front().x.back(), error_point = plot.series.front().y.back();
+    const double lo = dx_point / 1.5, hi = plot.series.front().x.front() * 1.5;
+    plot.series.push_back(slope_line(1.0, dx_point, error_point, lo, hi));
+    plot.series.push_back(slope_line(2.0, dx_point, error_point, lo, hi));
+    plot.legend = Plot::LegendAt::top_left;
   }
-  const std::string errors_svg = errors.series.empty() ? std::string() : svg_plot(errors);
-  if (!errors_svg.empty()) write_file_atomic(options.output_dir / "convergence.svg", errors_svg);
+  return plot;
+}
 
-  Plot fronts;
-  fronts.title = fmt::format("Wave front over the first transit: {}", study.case_name);
-  fronts.x_label = "t (s)";
-  fronts.y_label = "x of the wave front (m)";
-  for (const auto& l : study.levels)
-    fronts.series.push_back(curve(fmt::format("dx = {:g} m", l.dx), l.front.t, l.front.y));
+// The wave front of every run, with the window of the front error shaded.
+Plot fronts_plot(const ConvergenceStudy& study) {
+  Plot plot;
+  plot.title = fmt::format("Wave front over the first transit: {}", study.case_name);
+  plot.x_label = "t (s)";
+  plot.y_label = "x of the wave front (m)";
+  for (const auto& l : study.levels) plot.series.push_back(curve(fmt::format("dx = {:g} m", l.dx), l.front.t, l.front.y));
   const double t_end = study.levels.back().arrival ? *study.levels.back().arrival : study.end_time;
-  fronts.bands = {{0.0, t_end, "error window"}};
-  fronts.x_range = {{0.0, std::min(study.end_time, 1.3 * t_end)}};
-  fronts.y_range = {{0.0, study.width}};
-  fronts.legend = Plot::LegendAt::bottom_right;
-  const std::string fronts_svg = svg_plot(fronts);
-  write_file_atomic(options.output_dir / "fronts.svg", fronts_svg);
+  plot.bands = {{0.0, t_end, "error window"}};
+  plot.x_range = {{0.0, std::min(study.end_time, 1.3 * t_end)}};
+  plot.y_range = {{0.0, study.width}};
+  plot.legend = Plot::LegendAt::bottom_right;
+  return plot;
+}
 
+// errors_svg is empty when there is no errors plot.
+std::string report_html(const ConvergenceStudy& study, const ConvergenceOptions& options, const std::string& errors_svg,
+                        const std::string& fronts_svg) {
   HtmlReport html(fmt::format("Convergence study: {}", study.case_name));
   html.paragraph("Produced by: " + options.command_line);
   html.paragraph(fmt::format(
@@ -127,7 +133,82 @@ void write_outputs(const ConvergenceStudy& study, const ConvergenceOptions& opti
   if (!errors_svg.empty())
     html.figure(errors_svg, "Errors against the finest run; dashed: slopes of order 1 and 2 for comparison.");
   html.figure(fronts_svg, "Wave-front position at each spacing; shaded: the window of the front error.");
-  write_file_atomic(options.output_dir / "report.html", html.html());
+  return html.html();
+}
+
+void write_outputs(const ConvergenceStudy& study, const ConvergenceOptions& options) {
+  write_file_atomic(options.output_dir / "convergence.csv", convergence_csv(study));
+  const Plot errors = errors_plot(study);
+  const std::string errors_svg = errors.series.empty() ? std::string() : svg_plot(errors);
+  if (!errors_svg.empty()) write_file_atomic(options.output_dir / "convergence.svg", errors_svg);
+  const std::string fronts_svg = svg_plot(fronts_plot(study));
+  write_file_atomic(options.output_dir / "fronts.svg", fronts_svg);
+  write_file_atomic(options.output_dir / "report.html", report_html(study, options, errors_svg, fronts_svg));
+}
+
+// The mean depth h0 of the case's water (fluid area over the tank width), from its set-up at the
+// coarsest spacing.
+double mean_depth(const Case& base, double dx) {
+  Case coarse = base;
+  apply_overrides(coarse, {fmt::format("domain.dx={:.17g}", dx)});
+  const Simulation setup(coarse);
+  const double fluid = static_cast<double>(setup.diagnostics().fluid_particles);
+  return fluid * coarse.dx * coarse.dx / coarse.tank_width;
+}
+
+// The case at spacing dx for the study's time span and frames, with a gauge at the far wall sampled
+// every step.
+Case level_case(const Case& base, double dx, const ConvergenceStudy& study) {
+  Case c = base;
+  apply_overrides(c, {fmt::format("domain.dx={:.17g}", dx), fmt::format("time.end={:.17g}", study.end_time),
+                      fmt::format("output.interval={:.17g}", study.frame_interval), "output.formats=[\"npz\"]",
+                      "output.checkpoint_interval=0"});
+  Probe far_wall;
+  far_wall.name = far_wall_probe;
+  far_wall.type = ProbeType::gauge;
+  far_wall.point = {c.tank_width, 0.0, 0.0};
+  far_wall.band = 2.0 * dx;
+  c.probes.push_back(far_wall);
+  return c;
+}
+
+// Runs one spacing and measures its front and far-wall arrival. The first run fixes the study's front
+// threshold, when the options leave it to the analysis, so that every spacing uses the same.
+ConvergenceLevel run_level(const Case& c, double dx, ConvergenceStudy& study, const ConvergenceOptions& options,
+                           std::ostream& log) {
+  RunOptions run;
+  run.output_dir = options.output_dir / dx_name(dx);
+  run.threads = options.threads;
+  run.progress = options.progress;
+  log << fmt::format("convergence: running '{}' at dx = {:g} m to t = {:.3g} s into {}\n", c.name, dx,
+                     study.end_time, run.output_dir.string())
+      << std::flush;
+  const RunResult rr = run_case(c, run, log);
+
+  WaveOptions wave_options;
+  wave_options.front_threshold = study.front_threshold;
+  const WaveAnalysis w = analyze_run(run.output_dir, c, wave_options);
+  if (!(study.front_threshold > 0.0)) study.front_threshold = w.front_threshold;
+
+  ConvergenceLevel level;
+  level.dx = dx;
+  level.particles = rr.particles;
+  level.fluid_particles = rr.final.fluid_particles;
+  level.steps = rr.final.step;
+  level.wall_seconds = rr.wall_seconds;
+  for (std::size_t i = 0; i < w.time.size(); ++i)
+    if (std::isfinite(w.front[i])) {
+      level.front.t.push_back(w.time[i]);
+      level.front.y.push_back(w.front[i]);
+    }
+  const Series gauge =
+      read_csv_table(run.output_dir / "probes" / (std::string(far_wall_probe) + ".csv")).series("time", "height");
+  level.arrival = first_rise_to(gauge, gauge.y.front() + study.front_threshold);
+  log << fmt::format("convergence: dx = {:g} m: {} particles, {} steps, {:.1f} s; far-wall arrival {}\n", dx,
+                     rr.particles, rr.final.step, rr.wall_seconds,
+                     level.arrival ? fmt::format("t = {:.4f} s", *level.arrival) : std::string("not reached"))
+      << std::flush;
+  return level;
 }
 
 }  // namespace
@@ -147,65 +228,15 @@ ConvergenceStudy run_convergence(const Case& base, const ConvergenceOptions& opt
   study.case_name = base.name;
   study.width = base.tank_width;
   study.h_over_dx = base.h_over_dx;
-  const double g = -base.gravity[1];
-  {
-    Case coarse = base;
-    apply_overrides(coarse, {fmt::format("domain.dx={:.17g}", spacings.front())});
-    const Simulation setup(coarse);
-    const double fluid = static_cast<double>(setup.diagnostics().fluid_particles);
-    study.mean_depth = fluid * coarse.dx * coarse.dx / coarse.tank_width;
-  }
+  study.mean_depth = mean_depth(base, spacings.front());
   if (!(study.mean_depth > 0.0)) throw AnalysisError(fmt::format("case '{}' holds no water", base.name));
-  const double crossing = base.tank_width / std::sqrt(g * study.mean_depth);
+  const double crossing = base.tank_width / std::sqrt(-base.gravity[1] * study.mean_depth);
   study.end_time = options.end_time > 0.0 ? options.end_time : std::min(base.end_time, 1.2 * crossing);
   study.frame_interval = options.frame_interval > 0.0 ? options.frame_interval : crossing / 50.0;
   study.front_threshold = options.front_threshold;
 
   create_directories_or_throw(options.output_dir);
-  for (double dx : spacings) {
-    Case c = base;
-    apply_overrides(c, {fmt::format("domain.dx={:.17g}", dx), fmt::format("time.end={:.17g}", study.end_time),
-                        fmt::format("output.interval={:.17g}", study.frame_interval), "output.formats=[\"npz\"]",
-                        "output.checkpoint_interval=0"});
-    Probe far_wall;
-    far_wall.name = "convergence_far_wall";
-    far_wall.type = ProbeType::gauge;
-    far_wall.point = {c.tank_width, 0.0, 0.0};
-    far_wall.band = 2.0 * dx;
-    c.probes.push_back(far_wall);
-    RunOptions run;
-    run.output_dir = options.output_dir / dx_name(dx);
-    run.threads = options.threads;
-    run.progress = options.progress;
-    log << fmt::format("convergence: running '{}' at dx = {:g} m to t = {:.3g} s into {}\n", c.name, dx, study.end_time,
-                       run.output_dir.string())
-        << std::flush;
-    const RunResult rr = run_case(c, run, log);
-
-    WaveOptions wave_options;
-    wave_options.front_threshold = study.front_threshold;
-    const WaveAnalysis w = analyze_run(run.output_dir, c, wave_options);
-    if (!(study.front_threshold > 0.0)) study.front_threshold = w.front_threshold;  // the same for every spacing
-
-    ConvergenceLevel level;
-    level.dx = dx;
-    level.particles = rr.particles;
-    level.fluid_particles = rr.final.fluid_particles;
-    level.steps = rr.final.step;
-    level.wall_seconds = rr.wall_seconds;
-    for (std::size_t i = 0; i < w.time.size(); ++i)
-      if (std::isfinite(w.front[i])) {
-        level.front.t.push_back(w.time[i]);
-        level.front.y.push_back(w.front[i]);
-      }
-    const Series gauge = read_csv_table(run.output_dir / "probes" / (far_wall.name + ".csv")).series("time", "height");
-    level.arrival = first_rise_to(gauge, gauge.y.front() + study.front_threshold);
-    log << fmt::format("convergence: dx = {:g} m: {} particles, {} steps, {:.1f} s; far-wall arrival {}\n", dx,
-                       rr.particles, rr.final.step, rr.wall_seconds,
-                       level.arrival ? fmt::format("t = {:.4f} s", *level.arrival) : std::string("not reached"))
-        << std::flush;
-    study.levels.push_back(std::move(level));
-  }
+  for (double dx : spacings) study.levels.push_back(run_level(level_case(base, dx, study), dx, study, options, log));
   compute_convergence_errors(study);
   write_outputs(study, options);
   return study;

@@ -17,10 +17,6 @@ void HtmlReport::heading(const std::string& text, int level) {
 
 void HtmlReport::paragraph(const std::string& text) { body_ += "<p>" + xml_escape(text) + "</p>\n"; }
 
-void HtmlReport::raw(const std::string& html) { body_ += html + "\n"; }
-
-void HtmlReport::preformatted(const std::string& text) { body_ += "<pre>" + xml_escape(text) + "</pre>\n"; }
-
 void HtmlReport::table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows) {
   body_ += "<table>\n";
   if (std::any_of(header.begin(), header.end(), [](const std::string& h) { return !h.empty(); })) {

@@ -13,8 +13,6 @@ class HtmlReport {
 
   void heading(const std::string& text, int level = 2);
   void paragraph(const std::string& text);  // plain text, escaped
-  void raw(const std::string& html);        // trusted markup (our own)
-  void preformatted(const std::string& text);
   // A table of plain-text cells (no header row if every header is empty); a cell starting with "PASS"
   // or "FAIL" is coloured.
   void table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows);

@@ -46,8 +46,6 @@ Difference compare(const Series& simulation, const Series& reference, double t_m
     sum2 += e * e;
     sum += e;
     d.max_abs = std::max(d.max_abs, std::abs(e));
-    if (d.points == 0) d.t_min = t;
-    d.t_max = std::max(d.t_max, t);
     ++d.points;
   }
   if (d.points == 0)

@@ -37,7 +37,6 @@ struct Difference {
   double max_abs = 0.0;       // largest |simulation - reference|
   double mean = 0.0;          // mean of (simulation - reference): the bias
   std::size_t points = 0;     // reference points used
-  double t_min = 0.0, t_max = 0.0;  // the times of the first and last point used
 };
 // Throws AnalysisError when no reference point in the window is covered by the simulation.
 Difference compare(const Series& simulation, const Series& reference, double t_min, double t_max);

@@ -143,104 +143,154 @@ std::pair<double, double> extent(const Plot& plot, bool x_axis, bool log) {
   return {std::floor(lo / step + 1e-9) * step, std::ceil(hi / step - 1e-9) * step};
 }
 
-}  // namespace
+// The plot area inside the picture's margins, the axes that map data into it, and the id of the
+// clip path that keeps the series inside it.
+struct Canvas {
+  explicit Canvas(const Plot& p) : plot(p) {}
 
-std::string svg_plot(const Plot& plot) {
-  if (plot.series.empty()) throw AnalysisError(fmt::format("plot '{}': no series to draw", plot.title));
-  const double left = 70, right = 20, top = plot.title.empty() ? 20 : 40, bottom = 55;
-  const double w = plot.width, h = plot.height;
-  Axis ax{plot.log_x}, ay{plot.log_y};
-  std::tie(ax.lo, ax.hi) = plot.x_range ? *plot.x_range : extent(plot, true, plot.log_x);
-  std::tie(ay.lo, ay.hi) = plot.y_range ? *plot.y_range : extent(plot, false, plot.log_y);
+  const Plot& plot;
+  double left = 70, right = 20, top = 20, bottom = 55;
+  double w = 0, h = 0;
+  Axis ax, ay;
+  std::string clip;
+
+  [[nodiscard]] double inner_w() const { return w - left - right; }
+  [[nodiscard]] double inner_h() const { return h - top - bottom; }
+};
+
+// Clip ids must be unique within an HTML page holding several plots: derived from the plot's content.
+std::string clip_id(const Plot& plot) {
+  std::string identity = plot.title + plot.x_label + plot.y_label;
+  for (const auto& series : plot.series) identity += fmt::format("{}{}", series.label, series.x.size());
+  return fmt::format("plotarea{:x}", std::hash<std::string>{}(identity));
+}
+
+Canvas make_canvas(const Plot& plot) {
+  Canvas c(plot);
+  c.top = plot.title.empty() ? 20 : 40;
+  c.w = plot.width;
+  c.h = plot.height;
+  c.ax.log = plot.log_x;
+  c.ay.log = plot.log_y;
+  std::tie(c.ax.lo, c.ax.hi) = plot.x_range ? *plot.x_range : extent(plot, true, plot.log_x);
+  std::tie(c.ay.lo, c.ay.hi) = plot.y_range ? *plot.y_range : extent(plot, false, plot.log_y);
+  const Axis &ax = c.ax, &ay = c.ay;
   if (!(ax.hi > ax.lo) || !(ay.hi > ay.lo) || (ax.log && !(ax.lo > 0.0)) || (ay.log && !(ay.lo > 0.0)))
     throw AnalysisError(fmt::format("plot '{}': empty or invalid axis range", plot.title));
-  ax.pixel_lo = left;
-  ax.pixel_hi = w - right;
-  ay.pixel_lo = h - bottom;
-  ay.pixel_hi = top;
+  c.ax.pixel_lo = c.left;
+  c.ax.pixel_hi = c.w - c.right;
+  c.ay.pixel_lo = c.h - c.bottom;
+  c.ay.pixel_hi = c.top;
+  c.clip = clip_id(plot);
+  return c;
+}
 
+// The opening tag, a white background, the clip path and the title.
+std::string header(const Canvas& c) {
   std::string s = fmt::format(
       "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{0}\" height=\"{1}\" viewBox=\"0 0 {0} {1}\" "
       "font-family=\"DejaVu Sans, Arial, sans-serif\" font-size=\"13\">\n"
       "<rect width=\"{0}\" height=\"{1}\" fill=\"white\"/>\n",
-      plot.width, plot.height);
-  // Clip ids must be unique within an HTML page holding several plots: derived from the plot's content.
-  std::string identity = plot.title + plot.x_label + plot.y_label;
-  for (const auto& series : plot.series) identity += fmt::format("{}{}", series.label, series.x.size());
-  const std::string clip = fmt::format("plotarea{:x}", std::hash<std::string>{}(identity));
+      c.plot.width, c.plot.height);
   s += fmt::format("<defs><clipPath id=\"{}\"><rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\"/></clipPath></defs>\n",
-                   clip, left, top, w - left - right, h - top - bottom);
-  if (!plot.title.empty())
+                   c.clip, c.left, c.top, c.inner_w(), c.inner_h());
+  if (!c.plot.title.empty())
     s += fmt::format("<text x=\"{}\" y=\"24\" text-anchor=\"middle\" font-size=\"15\" font-weight=\"bold\">{}</text>\n",
-                     0.5 * (left + w - right), xml_escape(plot.title));
+                     0.5 * (c.left + c.w - c.right), xml_escape(c.plot.title));
+  return s;
+}
 
-  for (const auto& b : plot.bands) {
-    const double x0 = std::clamp(ax.map(b.x_min), left, w - right), x1 = std::clamp(ax.map(b.x_max), left, w - right);
-    s += fmt::format("<rect x=\"{:.2f}\" y=\"{}\" width=\"{:.2f}\" height=\"{}\" fill=\"#f0f0f0\"/>\n", x0, top,
-                     x1 - x0, h - top - bottom);
+// Shaded x-intervals, each with its label at its foot.
+std::string bands(const Canvas& c) {
+  std::string s;
+  for (const auto& b : c.plot.bands) {
+    const double x0 = std::clamp(c.ax.map(b.x_min), c.left, c.w - c.right);
+    const double x1 = std::clamp(c.ax.map(b.x_max), c.left, c.w - c.right);
+    s += fmt::format("<rect x=\"{:.2f}\" y=\"{}\" width=\"{:.2f}\" height=\"{}\" fill=\"#f0f0f0\"/>\n", x0, c.top,
+                     x1 - x0, c.inner_h());
     if (!b.label.empty())
       s += fmt::format("<text x=\"{:.2f}\" y=\"{}\" text-anchor=\"middle\" fill=\"#777\" font-size=\"11\">{}</text>\n",
-                       0.5 * (x0 + x1), h - bottom - 6, xml_escape(b.label));
+                       0.5 * (x0 + x1), c.h - c.bottom - 6, xml_escape(b.label));
   }
+  return s;
+}
 
-  // Grid, ticks and labels.
-  for (const auto& [v, label] : ax.ticks()) {
-    const double x = ax.map(v);
+// Grid lines, ticks and tick labels of both axes, the frame of the plot area and the axis labels.
+std::string axes(const Canvas& c) {
+  const double left = c.left, right = c.right, top = c.top, bottom = c.bottom, w = c.w, h = c.h;
+  std::string s;
+  for (const auto& [v, label] : c.ax.ticks()) {
+    const double x = c.ax.map(v);
     s += fmt::format("<line x1=\"{0:.2f}\" y1=\"{1}\" x2=\"{0:.2f}\" y2=\"{2}\" stroke=\"#e3e3e3\"/>\n", x, top, h - bottom);
     s += fmt::format("<line x1=\"{0:.2f}\" y1=\"{1}\" x2=\"{0:.2f}\" y2=\"{2}\" stroke=\"black\"/>\n", x, h - bottom,
                      h - bottom + 5);
     s += fmt::format("<text x=\"{:.2f}\" y=\"{}\" text-anchor=\"middle\">{}</text>\n", x, h - bottom + 19,
                      xml_escape(label));
   }
-  for (const auto& [v, label] : ay.ticks()) {
-    const double y = ay.map(v);
+  for (const auto& [v, label] : c.ay.ticks()) {
+    const double y = c.ay.map(v);
     s += fmt::format("<line x1=\"{1}\" y1=\"{0:.2f}\" x2=\"{2}\" y2=\"{0:.2f}\" stroke=\"#e3e3e3\"/>\n", y, left, w - right);
     s += fmt::format("<line x1=\"{1}\" y1=\"{0:.2f}\" x2=\"{2}\" y2=\"{0:.2f}\" stroke=\"black\"/>\n", y, left - 5, left);
     s += fmt::format("<text x=\"{}\" y=\"{:.2f}\" text-anchor=\"end\">{}</text>\n", left - 8, y + 4.5, xml_escape(label));
   }
   s += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"none\" stroke=\"black\"/>\n", left, top,
-                   w - left - right, h - top - bottom);
+                   c.inner_w(), c.inner_h());
   s += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">{}</text>\n", 0.5 * (left + w - right), h - 12,
-                   xml_escape(plot.x_label));
+                   xml_escape(c.plot.x_label));
   s += fmt::format("<text transform=\"translate(16,{:.2f}) rotate(-90)\" text-anchor=\"middle\">{}</text>\n",
-                   0.5 * (top + h - bottom), xml_escape(plot.y_label));
+                   0.5 * (top + h - bottom), xml_escape(c.plot.y_label));
+  return s;
+}
 
-  // Series, clipped to the plot area.
+// One series: its line (broken at points that cannot be drawn) and/or its markers.
+std::string series_marks(const Canvas& c, const PlotSeries& series, const std::string& colour) {
+  const std::size_t n = std::min(series.x.size(), series.y.size());
+  auto drawable = [&](std::size_t i) {
+    return std::isfinite(series.x[i]) && std::isfinite(series.y[i]) && (!c.ax.log || series.x[i] > 0.0) &&
+           (!c.ay.log || series.y[i] > 0.0);
+  };
+  std::string s;
+  if (series.style != PlotSeries::Style::markers) {
+    std::string path;
+    bool pen_down = false;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!drawable(i)) {
+        pen_down = false;
+        continue;
+      }
+      path += fmt::format("{}{:.2f},{:.2f} ", pen_down ? "L" : "M", c.ax.map(series.x[i]), c.ay.map(series.y[i]));
+      pen_down = true;
+    }
+    s += fmt::format("<path d=\"{}\" stroke=\"{}\"{}/>\n", path, colour, series.dashed ? " stroke-dasharray=\"6,4\"" : "");
+  }
+  if (series.style != PlotSeries::Style::line)
+    for (std::size_t i = 0; i < n; ++i)
+      if (drawable(i))
+        s += fmt::format("<circle cx=\"{:.2f}\" cy=\"{:.2f}\" r=\"3.2\" stroke=\"{}\" fill=\"white\"/>\n",
+                         c.ax.map(series.x[i]), c.ay.map(series.y[i]), colour);
+  return s;
+}
+
+// Each series' colour: its own, or the next of the palette.
+std::vector<std::string> series_colours(const Plot& plot) {
   std::vector<std::string> colours;
   std::size_t next_colour = 0;
-  s += fmt::format("<g clip-path=\"url(#{})\" fill=\"none\" stroke-width=\"1.8\">\n", clip);
-  for (const auto& series : plot.series) {
-    const std::string colour =
-        series.colour.empty() ? palette[next_colour++ % (sizeof(palette) / sizeof(palette[0]))] : series.colour;
-    colours.push_back(colour);
-    const std::size_t n = std::min(series.x.size(), series.y.size());
-    auto drawable = [&](std::size_t i) {
-      return std::isfinite(series.x[i]) && std::isfinite(series.y[i]) && (!ax.log || series.x[i] > 0.0) &&
-             (!ay.log || series.y[i] > 0.0);
-    };
-    if (series.style != PlotSeries::Style::markers) {
-      std::string path;
-      bool pen_down = false;
-      for (std::size_t i = 0; i < n; ++i) {
-        if (!drawable(i)) {
-          pen_down = false;
-          continue;
-        }
-        path += fmt::format("{}{:.2f},{:.2f} ", pen_down ? "L" : "M", ax.map(series.x[i]), ay.map(series.y[i]));
-        pen_down = true;
-      }
-      s += fmt::format("<path d=\"{}\" stroke=\"{}\"{}/>\n", path, colour,
-                       series.dashed ? " stroke-dasharray=\"6,4\"" : "");
-    }
-    if (series.style != PlotSeries::Style::line)
-      for (std::size_t i = 0; i < n; ++i)
-        if (drawable(i))
-          s += fmt::format("<circle cx=\"{:.2f}\" cy=\"{:.2f}\" r=\"3.2\" stroke=\"{}\" fill=\"white\"/>\n",
-                           ax.map(series.x[i]), ay.map(series.y[i]), colour);
-  }
-  s += "</g>\n";
+  for (const auto& series : plot.series)
+    colours.push_back(series.colour.empty() ? palette[next_colour++ % (sizeof(palette) / sizeof(palette[0]))]
+                                            : series.colour);
+  return colours;
+}
 
-  // Legend.
+// The series, clipped to the plot area.
+std::string all_series(const Canvas& c, const std::vector<std::string>& colours) {
+  std::string s = fmt::format("<g clip-path=\"url(#{})\" fill=\"none\" stroke-width=\"1.8\">\n", c.clip);
+  for (std::size_t k = 0; k < c.plot.series.size(); ++k) s += series_marks(c, c.plot.series[k], colours[k]);
+  return s + "</g>\n";
+}
+
+// A box in the chosen corner listing the labelled series, each with a sample of its line or marker.
+std::string legend(const Canvas& c, const std::vector<std::string>& colours) {
+  const Plot& plot = c.plot;
   std::vector<std::size_t> listed;
   std::size_t longest = 0;
   for (std::size_t k = 0; k < plot.series.size(); ++k)
@@ -248,30 +298,37 @@ std::string svg_plot(const Plot& plot) {
       listed.push_back(k);
       longest = std::max(longest, plot.series[k].label.size());
     }
-  if (!listed.empty()) {
-    const double box_w = 40 + 7.2 * static_cast<double>(longest), box_h = 8 + 18 * static_cast<double>(listed.size());
-    const bool at_right = plot.legend == Plot::LegendAt::top_right || plot.legend == Plot::LegendAt::bottom_right;
-    const bool at_bottom = plot.legend == Plot::LegendAt::bottom_left || plot.legend == Plot::LegendAt::bottom_right;
-    const double x0 = at_right ? w - right - 10 - box_w : left + 10;
-    const double y0 = at_bottom ? h - bottom - 10 - box_h : top + 10;
-    s += fmt::format("<rect x=\"{:.1f}\" y=\"{:.1f}\" width=\"{:.1f}\" height=\"{:.1f}\" fill=\"white\" "
-                     "fill-opacity=\"0.9\" stroke=\"#999\"/>\n",
-                     x0, y0, box_w, box_h);
-    for (std::size_t row = 0; row < listed.size(); ++row) {
-      const auto& series = plot.series[listed[row]];
-      const std::string& colour = colours[listed[row]];
-      const double y = y0 + 16 + 18 * static_cast<double>(row);
-      if (series.style != PlotSeries::Style::markers)
-        s += fmt::format("<line x1=\"{:.1f}\" y1=\"{:.1f}\" x2=\"{:.1f}\" y2=\"{:.1f}\" stroke=\"{}\" stroke-width=\"1.8\"{}/>\n",
-                         x0 + 6, y - 4, x0 + 30, y - 4, colour, series.dashed ? " stroke-dasharray=\"6,4\"" : "");
-      if (series.style != PlotSeries::Style::line)
-        s += fmt::format("<circle cx=\"{:.1f}\" cy=\"{:.1f}\" r=\"3.2\" stroke=\"{}\" fill=\"white\" stroke-width=\"1.8\"/>\n",
-                         x0 + 18, y - 4, colour);
-      s += fmt::format("<text x=\"{:.1f}\" y=\"{:.1f}\">{}</text>\n", x0 + 36, y, xml_escape(series.label));
-    }
+  if (listed.empty()) return "";
+  const double box_w = 40 + 7.2 * static_cast<double>(longest), box_h = 8 + 18 * static_cast<double>(listed.size());
+  const bool at_right = plot.legend == Plot::LegendAt::top_right || plot.legend == Plot::LegendAt::bottom_right;
+  const bool at_bottom = plot.legend == Plot::LegendAt::bottom_left || plot.legend == Plot::LegendAt::bottom_right;
+  const double x0 = at_right ? c.w - c.right - 10 - box_w : c.left + 10;
+  const double y0 = at_bottom ? c.h - c.bottom - 10 - box_h : c.top + 10;
+  std::string s = fmt::format("<rect x=\"{:.1f}\" y=\"{:.1f}\" width=\"{:.1f}\" height=\"{:.1f}\" fill=\"white\" "
+                              "fill-opacity=\"0.9\" stroke=\"#999\"/>\n",
+                              x0, y0, box_w, box_h);
+  for (std::size_t row = 0; row < listed.size(); ++row) {
+    const auto& series = plot.series[listed[row]];
+    const std::string& colour = colours[listed[row]];
+    const double y = y0 + 16 + 18 * static_cast<double>(row);
+    if (series.style != PlotSeries::Style::markers)
+      s += fmt::format("<line x1=\"{:.1f}\" y1=\"{:.1f}\" x2=\"{:.1f}\" y2=\"{:.1f}\" stroke=\"{}\" stroke-width=\"1.8\"{}/>\n",
+                       x0 + 6, y - 4, x0 + 30, y - 4, colour, series.dashed ? " stroke-dasharray=\"6,4\"" : "");
+    if (series.style != PlotSeries::Style::line)
+      s += fmt::format("<circle cx=\"{:.1f}\" cy=\"{:.1f}\" r=\"3.2\" stroke=\"{}\" fill=\"white\" stroke-width=\"1.8\"/>\n",
+                       x0 + 18, y - 4, colour);
+    s += fmt::format("<text x=\"{:.1f}\" y=\"{:.1f}\">{}</text>\n", x0 + 36, y, xml_escape(series.label));
   }
-  s += "</svg>\n";
   return s;
+}
+
+}  // namespace
+
+std::string svg_plot(const Plot& plot) {
+  if (plot.series.empty()) throw AnalysisError(fmt::format("plot '{}': no series to draw", plot.title));
+  const Canvas c = make_canvas(plot);
+  const std::vector<std::string> colours = series_colours(plot);
+  return header(c) + bands(c) + axes(c) + all_series(c, colours) + legend(c, colours) + "</svg>\n";
 }
 
 }  // namespace sluice::analysis

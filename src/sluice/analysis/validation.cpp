@@ -3,16 +3,17 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <tuple>
 
 #include "sluice/analysis/html_report.hpp"
 #include "sluice/analysis/reference_data.hpp"
 #include "sluice/analysis/svg_plot.hpp"
 #include "sluice/analysis/table.hpp"
-#include "sluice/case/params.hpp"
+#include "sluice/case/builtin_cases.hpp"
+#include "sluice/case/overrides.hpp"
 #include "sluice/io/atomic_file.hpp"
 
 namespace fs = std::filesystem;
@@ -34,9 +35,9 @@ ValidationBounds full_bounds() {
 }
 
 ValidationBounds quick_bounds() {
-  // What holds at the quick resolution (a/dx = L/dx = 20, H/dx = 30), with a margin for the run-to-run
-  // scatter of the pressure after impact (a change of time steps changes its details). Measured when set:
-  // 0.137, 0.054, 0.210, 0.422, 0.168 and 0.169 (README, "Validation").
+  // What holds at the quick resolution (a/dx = L/dx = 20, H/dx = 30), with a margin over the values
+  // measured there (README, "Validation") for the run-to-run scatter of the pressure after impact (a
+  // change of time steps changes its details).
   return {.mm_front_rms = 0.25, .mm_height_rms = 0.08, .ko_front_rms = 0.30, .buchner_pressure_rms = 0.60,
           .buchner_plateau_rms = 0.25, .buchner_impact = 0.3};
 }
@@ -136,59 +137,66 @@ PlotSeries ritter_front(double t_max) {
   return p;
 }
 
-// Shared by the two column-collapse cases (a column 2L high and L wide, front scaled by L).
-ValidationResult evaluate_front_case(const std::string& name, const std::string& title, const Case& c,
-                                     const fs::path& run_dir, const std::string& data_file,
-                                     const std::string& data_label, double t_window, double bound,
-                                     const std::string& length_symbol) {
-  const Region& column = water_column(c);
-  const double length = column.max[0];
-  if (std::abs(column.max[1] / length - 2.0) > 1e-9)
-    throw AnalysisError(fmt::format("case '{}': the {} data are for a column twice as high as wide; this one is {} x {}",
-                                    c.name, data_label, length, column.max[1]));
-  const double g = gravity_of(c);
-  ValidationResult r;
-  r.case_name = name;
-  r.title = title;
-  r.resolution_ratio = length / c.dx;
-  r.resolution = fmt::format("{}/dx = {:.4g} (dx = {:.4g} mm, {} = {:.4g} m)", length_symbol, length / c.dx, c.dx * 1e3,
-                             length_symbol, length);
-  r.settings = settings_of(c);
+// What differs between the two column-collapse cases (a column 2L high and L wide, front scaled by L).
+struct FrontCase {
+  std::string name, title;
+  std::string data_file, data_label;
+  double t_window = 0.0;      // the RMS window: T <= t_window
+  std::string length_symbol;  // the data's name for the column width L
+};
 
-  // T = t sqrt(2g/L) (n t sqrt(g/L), n^2 = 2); Z = front edge / L.
-  const Series front = scaled(probe_series(run_dir, "front", "distance"), std::sqrt(2.0 * g / length), 1.0 / length,
-                              0.5 * c.dx);
-  const Table data = reference_table(data_file);
-  const Series reference = data.series("T", "Z");
-  const double t_all = reference.t.back();
-  Comparison window{"front_window", "front Z = x/" + length_symbol, data_label, fmt::format("T <= {:g}", t_window),
-                    compare(front, reference, 0.0, t_window)};
-  r.comparisons.push_back(window);
-  if (t_all > t_window)
-    r.comparisons.push_back({"front_all", "front Z = x/" + length_symbol, data_label, "all points",
-                             compare(front, reference, 0.0, t_all)});
-  if (bound > 0.0)
-    r.checks.push_back({name + ".front_rms", fmt::format("{}: front RMS dZ, T <= {:g}", name, t_window),
-                        window.difference.rms, bound});
-
+// The simulated front against the data and Ritter's solution, up to a little past the data.
+Figure front_figure(const FrontCase& fc, const Case& c, double length, const Series& front, const Series& reference,
+                    const Table& data) {
   Plot plot;
-  plot.title = title + ": surge front";
-  plot.x_label = "T = t sqrt(2g/" + length_symbol + ")";
-  plot.y_label = "Z = x_front / " + length_symbol;
-  const double t_max = std::max(t_all, t_window) + 0.3;
+  plot.title = fc.title + ": surge front";
+  plot.x_label = "T = t sqrt(2g/" + fc.length_symbol + ")";
+  plot.y_label = "Z = x_front / " + fc.length_symbol;
+  const double t_max = std::max(reference.t.back(), fc.t_window) + 0.3;
   Series shown;
   for (std::size_t i = 0; i < front.size(); ++i)
     if (front.t[i] <= t_max) {
       shown.t.push_back(front.t[i]);
       shown.y.push_back(front.y[i]);
     }
-  plot.series = {line(fmt::format("sluice, {}/dx = {:.4g}", length_symbol, length / c.dx), shown), markers(data_label, reference),
-                 ritter_front(t_max)};
-  plot.bands = {{0.0, t_window, fmt::format("RMS window T <= {:g}", t_window)}};
+  plot.series = {line(fmt::format("sluice, {}/dx = {:.4g}", fc.length_symbol, length / c.dx), shown),
+                 markers(fc.data_label, reference), ritter_front(t_max)};
+  plot.bands = {{0.0, fc.t_window, fmt::format("RMS window T <= {:g}", fc.t_window)}};
   plot.x_range = {{0.0, t_max}};
   plot.y_range = {{0.5, std::max(5.0, std::ceil(reference.y.back() + 1.0))}};
-  r.figures.push_back({svg_plot(plot), fmt::format("Front position against {} (markers). Data: {}", data_label,
-                                                   provenance(data))});
+  return {svg_plot(plot), fmt::format("Front position against {} (markers). Data: {}", fc.data_label, provenance(data))};
+}
+
+ValidationResult evaluate_front_case(const FrontCase& fc, const Case& c, const fs::path& run_dir, double bound) {
+  const Region& column = water_column(c);
+  const double length = column.max[0];
+  if (std::abs(column.max[1] / length - 2.0) > 1e-9)
+    throw AnalysisError(fmt::format("case '{}': the {} data are for a column twice as high as wide; this one is {} x {}",
+                                    c.name, fc.data_label, length, column.max[1]));
+  const double g = gravity_of(c);
+  ValidationResult r;
+  r.case_name = fc.name;
+  r.title = fc.title;
+  r.resolution = fmt::format("{}/dx = {:.4g} (dx = {:.4g} mm, {} = {:.4g} m)", fc.length_symbol, length / c.dx,
+                             c.dx * 1e3, fc.length_symbol, length);
+  r.settings = settings_of(c);
+
+  // T = t sqrt(2g/L) (n t sqrt(g/L), n^2 = 2); Z = front edge / L.
+  const Series front = scaled(probe_series(run_dir, "front", "distance"), std::sqrt(2.0 * g / length), 1.0 / length,
+                              0.5 * c.dx);
+  const Table data = reference_table(fc.data_file);
+  const Series reference = data.series("T", "Z");
+  const double t_all = reference.t.back();
+  const std::string quantity = "front Z = x/" + fc.length_symbol;
+  const Comparison window{"front_window", quantity, fc.data_label, fmt::format("T <= {:g}", fc.t_window),
+                          compare(front, reference, 0.0, fc.t_window)};
+  r.comparisons.push_back(window);
+  if (t_all > fc.t_window)
+    r.comparisons.push_back({"front_all", quantity, fc.data_label, "all points", compare(front, reference, 0.0, t_all)});
+  if (bound > 0.0)
+    r.checks.push_back({fc.name + ".front_rms", fmt::format("{}: front RMS dZ, T <= {:g}", fc.name, fc.t_window),
+                        window.difference.rms, bound});
+  r.figures.push_back(front_figure(fc, c, length, front, reference, data));
   r.notes.push_back(fmt::format(
       "The front is the furthest fluid particle's centre plus dx/2 (its edge), so that Z = 1 at t = 0; without the "
       "dx/2 every Z would be {:.3g} smaller.",
@@ -203,9 +211,9 @@ ValidationResult evaluate_front_case(const std::string& name, const std::string&
 }  // namespace
 
 ValidationResult evaluate_martin_moyce(const Case& c, const fs::path& run_dir, const ValidationBounds& b) {
-  ValidationResult r =
-      evaluate_front_case("martin_moyce", "Martin & Moyce (1952) column collapse", c, run_dir,
-                          "mm1952_n2sq2_a2.25in_front_table2.csv", "Martin & Moyce (1952) Table 2", 3.0, b.mm_front_rms, "a");
+  const FrontCase fc{"martin_moyce", "Martin & Moyce (1952) column collapse", "mm1952_n2sq2_a2.25in_front_table2.csv",
+                     "Martin & Moyce (1952) Table 2", 3.0, "a"};
+  ValidationResult r = evaluate_front_case(fc, c, run_dir, b.mm_front_rms);
   const double a = water_column(c).max[0];
   const double g = gravity_of(c);
   // tau = t sqrt(g/a), H = residual height / (2a): the gauge at the back wall gives the top of the column.
@@ -233,9 +241,84 @@ ValidationResult evaluate_martin_moyce(const Case& c, const fs::path& run_dir, c
 }
 
 ValidationResult evaluate_koshizuka_oka(const Case& c, const fs::path& run_dir, const ValidationBounds& b) {
-  return evaluate_front_case("koshizuka_oka", "Koshizuka & Oka (1996) column collapse", c, run_dir,
-                             "koshizuka_oka1996_front_pysph.csv", "Koshizuka & Oka (1996)", 3.1, b.ko_front_rms, "L");
+  const FrontCase fc{"koshizuka_oka", "Koshizuka & Oka (1996) column collapse", "koshizuka_oka1996_front_pysph.csv",
+                     "Koshizuka & Oka (1996)", 3.1, "L"};
+  return evaluate_front_case(fc, c, run_dir, b.ko_front_rms);
 }
+
+namespace {
+
+// The wall pressure against the data, over the RMS window.
+Figure buchner_figure(const Case& c, double height, const Series& pressure, const Series& reference, const Table& data) {
+  Plot plot;
+  plot.title = "Buchner (2002): pressure on the far wall at y = 0.2H";
+  plot.x_label = "t* = t sqrt(g/H)";
+  plot.y_label = "p* = p / (rho g H)";
+  plot.series = {line(fmt::format("sluice, H/dx = {:.4g}", height / c.dx), pressure),
+                 markers("Buchner (2002)", reference)};
+  plot.bands = {{2.0, 7.0, "RMS window 2 <= t* <= 7"}};
+  plot.x_range = {{0.0, std::ceil(reference.t.back())}};
+  double p_max = 1.0;
+  for (double p : pressure.y) p_max = std::max(p_max, p);
+  plot.y_range = {{-0.5, std::min(3.0, std::ceil(p_max * 2.0) / 2.0)}};
+  return {svg_plot(plot), "Pressure at the probe: kernel-weighted (Shepard-normalised) pressure of the fluid "
+                          "particles within 2h of the point (5.366H, 0.2H) on the far wall. Data: " +
+                              provenance(data)};
+}
+
+// The impact time check; returns the simulated impact time, if the pressure reached the level.
+std::optional<double> check_impact(ValidationResult& r, const Series& pressure, const Series& reference,
+                                   const ValidationBounds& b) {
+  const auto impact_sim = first_rise_to(pressure, impact_pressure_level);
+  const auto impact_data = first_rise_to(reference, impact_pressure_level);
+  if (!impact_data) throw AnalysisError("the Buchner data never reach the impact level");
+  if (impact_sim) {
+    r.checks.push_back({"buchner.impact_time", fmt::format("buchner: |impact time - data's| (t* at p* = {:g}; data {:.3f}, sluice {:.3f})",
+                                    impact_pressure_level, *impact_data, *impact_sim),
+                        std::abs(*impact_sim - *impact_data), b.buchner_impact});
+  } else {
+    r.checks.push_back({"buchner.impact_time", fmt::format("buchner: the simulated pressure never reached p* = {:g} (impact)", impact_pressure_level),
+                        std::numeric_limits<double>::infinity(), b.buchner_impact});
+  }
+  return impact_sim;
+}
+
+// Where the squared difference over the window comes from: the shares of its three parts.
+std::optional<std::string> shares_note(const ValidationResult& r, const Comparison& whole) {
+  const double total = whole.difference.rms * whole.difference.rms * static_cast<double>(whole.difference.points);
+  if (!(total > 0.0)) return std::nullopt;
+  std::string shares;
+  for (std::size_t k = 1; k <= 3 && k < r.comparisons.size(); ++k) {
+    const Difference& d = r.comparisons[k].difference;
+    shares += fmt::format("{}{:.0f}% from {}", shares.empty() ? "" : ", ",
+                          100.0 * d.rms * d.rms * static_cast<double>(d.points) / total, r.comparisons[k].window);
+  }
+  return "Of the squared difference over 2 <= t* <= 7 (a data point on the edge of two parts counts in both): " +
+         shares + ".";
+}
+
+// When the surge front reaches the far wall, from the case's front probe: compared with the impact
+// time, it tells whether the pressure rise is late because the water is, or because the water
+// arriving is too thin to reach the probe.
+std::optional<std::string> arrival_note(const Case& c, const fs::path& run_dir, double height,
+                                        std::optional<double> impact_sim) {
+  std::error_code ec;
+  if (!fs::exists(run_dir / "probes" / "front.csv", ec)) return std::nullopt;
+  const Series front =
+      scaled(probe_series(run_dir, "front", "distance"), std::sqrt(gravity_of(c) / height), 1.0, 0.5 * c.dx);
+  const auto arrival = first_rise_to(front, c.tank_width - 0.5 * c.dx);
+  if (!arrival) return std::nullopt;
+  const bool later = !impact_sim || *impact_sim > *arrival + 0.05;
+  return fmt::format(
+      "The surge front (furthest fluid particle) reaches the far wall at t* = {:.3f}; the pressure at 0.2H reaches "
+      "p* = {:g} at t* = {}.{}",
+      *arrival, impact_pressure_level, impact_sim ? fmt::format("{:.3f}", *impact_sim) : std::string("(never)"),
+      later ? " In between, the water at the wall is a layer thinner than the probe's height (the simulated "
+              "front is a thin wedge), so the probe sees the impact late."
+            : "");
+}
+
+}  // namespace
 
 ValidationResult evaluate_buchner(const Case& c, const fs::path& run_dir, const ValidationBounds& b) {
   const Region& column = water_column(c);
@@ -248,7 +331,6 @@ ValidationResult evaluate_buchner(const Case& c, const fs::path& run_dir, const 
   ValidationResult r;
   r.case_name = "buchner";
   r.title = "Buchner (2002) dam break: pressure on the far wall";
-  r.resolution_ratio = height / c.dx;
   r.resolution = fmt::format("H/dx = {:.4g} (dx = {:.4g} mm, H = {:.4g} m)", height / c.dx, c.dx * 1e3, height);
   r.settings = settings_of(c);
   // t* = t sqrt(g/H), p* = p / (rho0 g H).
@@ -270,77 +352,22 @@ ValidationResult evaluate_buchner(const Case& c, const fs::path& run_dir, const 
                         r.comparisons[2].difference.rms, b.buchner_plateau_rms});
   r.checks.push_back({"buchner.pressure_rms", "buchner: wall pressure RMS dp*, 2 <= t* <= 7", cmp.difference.rms,
                       b.buchner_pressure_rms});
-
-  const auto impact_sim = first_rise_to(pressure, impact_pressure_level);
-  const auto impact_data = first_rise_to(reference, impact_pressure_level);
-  if (!impact_data) throw AnalysisError("the Buchner data never reach the impact level");
-  if (impact_sim) {
-    r.checks.push_back({"buchner.impact_time", fmt::format("buchner: |impact time - data's| (t* at p* = {:g}; data {:.3f}, sluice {:.3f})",
-                                    impact_pressure_level, *impact_data, *impact_sim),
-                        std::abs(*impact_sim - *impact_data), b.buchner_impact});
-  } else {
-    r.checks.push_back({"buchner.impact_time", fmt::format("buchner: the simulated pressure never reached p* = {:g} (impact)", impact_pressure_level),
-                        std::numeric_limits<double>::infinity(), b.buchner_impact});
-  }
-
-  Plot plot;
-  plot.title = "Buchner (2002): pressure on the far wall at y = 0.2H";
-  plot.x_label = "t* = t sqrt(g/H)";
-  plot.y_label = "p* = p / (rho g H)";
-  plot.series = {line(fmt::format("sluice, H/dx = {:.4g}", height / c.dx), pressure),
-                 markers("Buchner (2002)", reference)};
-  plot.bands = {{2.0, 7.0, "RMS window 2 <= t* <= 7"}};
-  plot.x_range = {{0.0, std::ceil(reference.t.back())}};
-  double p_max = 1.0;
-  for (double p : pressure.y) p_max = std::max(p_max, p);
-  plot.y_range = {{-0.5, std::min(3.0, std::ceil(p_max * 2.0) / 2.0)}};
-  r.figures.push_back({svg_plot(plot), "Pressure at the probe: kernel-weighted (Shepard-normalised) pressure of the fluid "
-                                       "particles within 2h of the point (5.366H, 0.2H) on the far wall. Data: " +
-                                           provenance(data)});
+  const std::optional<double> impact_sim = check_impact(r, pressure, reference, b);
+  r.figures.push_back(buchner_figure(c, height, pressure, reference, data));
   r.notes.push_back(fmt::format("Impact time: the first time p* reaches {:g}, about half the first pressure plateau.",
                                 impact_pressure_level));
-  // Where the squared difference over the window comes from.
-  const double total = cmp.difference.rms * cmp.difference.rms * static_cast<double>(cmp.difference.points);
-  if (total > 0.0) {
-    std::string shares;
-    for (std::size_t k = 1; k <= 3 && k < r.comparisons.size(); ++k) {
-      const Difference& d = r.comparisons[k].difference;
-      shares += fmt::format("{}{:.0f}% from {}", shares.empty() ? "" : ", ",
-                            100.0 * d.rms * d.rms * static_cast<double>(d.points) / total, r.comparisons[k].window);
-    }
-    r.notes.push_back("Of the squared difference over 2 <= t* <= 7 (a data point on the edge of two parts counts in "
-                      "both): " + shares + ".");
-  }
-  // When the surge front reaches the far wall, from the case's front probe: compared with the impact
-  // time, it tells whether the pressure rise is late because the water is, or because the water
-  // arriving is too thin to reach the probe.
-  std::error_code ec;
-  if (fs::exists(run_dir / "probes" / "front.csv", ec)) {
-    const Series front = scaled(probe_series(run_dir, "front", "distance"), std::sqrt(g / height), 1.0, 0.5 * c.dx);
-    if (const auto arrival = first_rise_to(front, c.tank_width - 0.5 * c.dx)) {
-      const bool later = !impact_sim || *impact_sim > *arrival + 0.05;
-      r.notes.push_back(fmt::format(
-          "The surge front (furthest fluid particle) reaches the far wall at t* = {:.3f}; the pressure at 0.2H reaches "
-          "p* = {:g} at t* = {}.{}",
-          *arrival, impact_pressure_level, impact_sim ? fmt::format("{:.3f}", *impact_sim) : std::string("(never)"),
-          later ? " In between, the water at the wall is a layer thinner than the probe's height (the simulated "
-                  "front is a thin wedge), so the probe sees the impact late."
-                : ""));
-    }
-  }
+  if (auto note = shares_note(r, cmp)) r.notes.push_back(*note);
+  if (auto note = arrival_note(c, run_dir, height, impact_sim)) r.notes.push_back(*note);
   return r;
 }
 
 namespace {
 
+// A value in the report's tables: three decimals, or "-" for none.
 std::string number(double v) {
   if (!std::isfinite(v)) return "-";
   return fmt::format("{:.3f}", v);
 }
-
-}  // namespace
-
-namespace {
 
 // Free text in a CSV cell: the files stay plain comma-separated, without quoting.
 std::string csv_text(std::string text) {

@@ -48,7 +48,6 @@ struct ValidationResult {
   std::string case_name;
   std::string title;
   std::string resolution;  // e.g. "a/dx = 40 (dx = 1.429 mm)"
-  double resolution_ratio = 0.0;
   std::string settings;    // the physics options in one line
   std::size_t particles = 0, fluid_particles = 0;
   std::int64_t steps = 0;

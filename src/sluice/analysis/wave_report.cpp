@@ -75,23 +75,29 @@ std::string wave_table(const WaveAnalysis& w, const Case& c, const std::filesyst
   return s;
 }
 
-void write_wave_report(const WaveAnalysis& w, const Case& c, const std::filesystem::path& run_dir,
-                       const std::filesystem::path& out_dir) {
-  create_directories_or_throw(out_dir);
-  std::string series = "time,crest_x,crest_height,front,centre_of_mass_x,far_wall_height\n";
-  for (std::size_t i = 0; i < w.time.size(); ++i)
-    series += fmt::format("{},{},{},{},{},{}\n", w.time[i], w.crest_x[i], w.crest_height[i],
-                          std::isfinite(w.front[i]) ? fmt::format("{}", w.front[i]) : std::string(),
-                          w.centre_of_mass_x[i], w.far_wall_height[i]);
-  write_file_atomic(out_dir / "waves.csv", series);
-  std::string summary = "quantity,value,unit\n";
-  for (const Row& r : summary_rows(w)) summary += fmt::format("{},{},{}\n", csv_quote(r.quantity), r.value, r.unit);
-  write_file_atomic(out_dir / "summary.csv", summary);
+namespace {
 
-  Plot positions;
-  positions.title = "Crest and front positions";
-  positions.x_label = "t (s)";
-  positions.y_label = "x (m)";
+std::string series_csv(const WaveAnalysis& w) {
+  std::string s = "time,crest_x,crest_height,front,centre_of_mass_x,far_wall_height\n";
+  for (std::size_t i = 0; i < w.time.size(); ++i)
+    s += fmt::format("{},{},{},{},{},{}\n", w.time[i], w.crest_x[i], w.crest_height[i],
+                     std::isfinite(w.front[i]) ? fmt::format("{}", w.front[i]) : std::string(), w.centre_of_mass_x[i],
+                     w.far_wall_height[i]);
+  return s;
+}
+
+std::string summary_csv(const WaveAnalysis& w) {
+  std::string s = "quantity,value,unit\n";
+  for (const Row& r : summary_rows(w)) s += fmt::format("{},{},{}\n", csv_quote(r.quantity), r.value, r.unit);
+  return s;
+}
+
+// Crest and front positions, with the crest's transits shaded.
+Plot positions_plot(const WaveAnalysis& w) {
+  Plot plot;
+  plot.title = "Crest and front positions";
+  plot.x_label = "t (s)";
+  plot.y_label = "x (m)";
   const PlotSeries crest_line = curve("crest (highest fluid point)", w.time, w.crest_x);
   // The front is a measure of the first transit: drawn until the wave reaches the far wall.
   std::vector<double> front_shown = w.front;
@@ -100,29 +106,31 @@ void write_wave_report(const WaveAnalysis& w, const Case& c, const std::filesyst
   const PlotSeries front_line = curve(
       fmt::format("front (surface {:.3g} m above its initial level), first transit", w.front_threshold), w.time,
       front_shown);
-  positions.series = {crest_line, front_line};
-  for (const Transit& t : w.transits)
-    positions.bands.push_back({t.t_start, t.t_end, fmt::format("{:.2f} m/s", t.speed)});
-  positions.y_range = {{0.0, 1.3 * w.width}};  // room above the tank for the legend
-  positions.legend = Plot::LegendAt::top_left;
-  const std::string positions_svg = svg_plot(positions);
-  write_file_atomic(out_dir / "crest.svg", positions_svg);
+  plot.series = {crest_line, front_line};
+  for (const Transit& t : w.transits) plot.bands.push_back({t.t_start, t.t_end, fmt::format("{:.2f} m/s", t.speed)});
+  plot.y_range = {{0.0, 1.3 * w.width}};  // room above the tank for the legend
+  plot.legend = Plot::LegendAt::top_left;
+  return plot;
+}
 
-  Plot heights;
-  heights.title = "Crest height";
-  heights.x_label = "t (s)";
-  heights.y_label = "height of the highest fluid point (m)";
-  heights.series = {curve("crest height", w.time, w.crest_height),
-                    curve("surface at the far wall", w.time, w.far_wall_height)};
-  heights.legend = Plot::LegendAt::top_right;
-  const std::string heights_svg = svg_plot(heights);
-  write_file_atomic(out_dir / "crest_height.svg", heights_svg);
+Plot heights_plot(const WaveAnalysis& w) {
+  Plot plot;
+  plot.title = "Crest height";
+  plot.x_label = "t (s)";
+  plot.y_label = "height of the highest fluid point (m)";
+  plot.series = {curve("crest height", w.time, w.crest_height),
+                 curve("surface at the far wall", w.time, w.far_wall_height)};
+  plot.legend = Plot::LegendAt::top_right;
+  return plot;
+}
 
-  Plot sloshing;
-  sloshing.title = "Sloshing: horizontal centre of mass";
-  sloshing.x_label = "t (s)";
-  sloshing.y_label = "x of the centre of mass (m)";
-  sloshing.series = {curve("centre of mass", w.time, w.centre_of_mass_x)};
+// The centre of mass, and its mean with the period from the zero crossings about it.
+Plot sloshing_plot(const WaveAnalysis& w) {
+  Plot plot;
+  plot.title = "Sloshing: horizontal centre of mass";
+  plot.x_label = "t (s)";
+  plot.y_label = "x of the centre of mass (m)";
+  plot.series = {curve("centre of mass", w.time, w.centre_of_mass_x)};
   if (w.period_zero_crossings) {
     double mean = 0.0;
     for (double x : w.centre_of_mass_x) mean += x;
@@ -131,12 +139,18 @@ void write_wave_report(const WaveAnalysis& w, const Case& c, const std::filesyst
                          {w.time.front(), w.time.back()}, {mean, mean});
     m.dashed = true;
     m.colour = "#999999";
-    sloshing.series.push_back(m);
+    plot.series.push_back(m);
   }
-  sloshing.legend = Plot::LegendAt::top_right;
-  const std::string sloshing_svg = svg_plot(sloshing);
-  write_file_atomic(out_dir / "sloshing.svg", sloshing_svg);
+  plot.legend = Plot::LegendAt::top_right;
+  return plot;
+}
 
+struct WaveFigures {
+  std::string positions, heights, sloshing;
+};
+
+std::string report_html(const WaveAnalysis& w, const Case& c, const std::filesystem::path& run_dir,
+                        const WaveFigures& svg) {
   HtmlReport html(fmt::format("Wave analysis: {}", c.name));
   html.paragraph(fmt::format("Run {} (case '{}': {}), {} frames from t = {:g} s to {:g} s, dx = {:g} m. Produced by: "
                              "sluice analyze {}",
@@ -146,18 +160,35 @@ void write_wave_report(const WaveAnalysis& w, const Case& c, const std::filesyst
   for (const Row& r : summary_rows(w)) rows.push_back({r.quantity, fmt::format("{:.4g}", r.value), r.unit});
   html.table({"quantity", "value", "unit"}, rows);
   for (const auto& n : w.notes) html.paragraph("Note: " + n);
-  html.figure(positions_svg,
+  html.figure(svg.positions,
               "The crest is the highest fluid point (its x); the front is the furthest fluid particle standing more "
               "than the threshold above the initial surface. Shaded: the crest's transits over the middle half of "
               "the tank, with the speed of a straight line through them.");
-  html.figure(heights_svg, "Height of the highest fluid point (particle centre + dx/2), and the surface at the far wall "
+  html.figure(svg.heights, "Height of the highest fluid point (particle centre + dx/2), and the surface at the far wall "
                            "(highest fluid particle within 2 dx of it).");
-  html.figure(sloshing_svg, "The horizontal centre of mass of the water, whose oscillation gives the sloshing period.");
+  html.figure(svg.sloshing, "The horizontal centre of mass of the water, whose oscillation gives the sloshing period.");
   html.paragraph(
       "Definitions: h0 is the mean initial depth (fluid area over the tank width). Stoker's bore speed is for the "
       "initial depths at the two walls (data/validation/stoker_wetbed_table.csv, interpolated). Speeds are slopes of "
       "least-squares lines through the positions while in the middle half of the tank.");
-  write_file_atomic(out_dir / "report.html", html.html());
+  return html.html();
+}
+
+}  // namespace
+
+void write_wave_report(const WaveAnalysis& w, const Case& c, const std::filesystem::path& run_dir,
+                       const std::filesystem::path& out_dir) {
+  create_directories_or_throw(out_dir);
+  write_file_atomic(out_dir / "waves.csv", series_csv(w));
+  write_file_atomic(out_dir / "summary.csv", summary_csv(w));
+  WaveFigures svg;
+  svg.positions = svg_plot(positions_plot(w));
+  write_file_atomic(out_dir / "crest.svg", svg.positions);
+  svg.heights = svg_plot(heights_plot(w));
+  write_file_atomic(out_dir / "crest_height.svg", svg.heights);
+  svg.sloshing = svg_plot(sloshing_plot(w));
+  write_file_atomic(out_dir / "sloshing.svg", svg.sloshing);
+  write_file_atomic(out_dir / "report.html", report_html(w, c, run_dir, svg));
 }
 
 }  // namespace sluice::analysis

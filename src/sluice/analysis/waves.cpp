@@ -116,7 +116,6 @@ std::vector<Transit> find_transits(const Series& crest_x, double width) {
       t.t_end = crest_x.t[j];
       const LineFit fit = fit_line(crest_x, t.t_start, t.t_end);
       t.speed = std::abs(fit.slope);
-      t.samples = fit.points;
       out.push_back(t);
     }
     i = j + 1;
@@ -145,7 +144,6 @@ WaveAnalysis start_wave_analysis(const Frame& first, double width, double g, con
   if (!(width > 0.0) || !(g > 0.0)) throw AnalysisError(fmt::format("tank width {} and gravity {} must be positive", width, g));
   WaveAnalysis a;
   a.width = width;
-  a.g = g;
   a.dx = first.dx;
   std::size_t fluid = 0;
   for (const std::uint8_t kind : first.kind()) fluid += kind == 0;
@@ -189,36 +187,30 @@ void add_frame(WaveAnalysis& a, const Frame& f) {
   a.far_wall_height.push_back(height_near_wall(f, a.width, 2.0 * a.dx));
 }
 
-void finish_wave_analysis(WaveAnalysis& a) {
-  if (a.time.size() < 2) throw AnalysisError(fmt::format("a wave analysis needs at least 2 frames; got {}", a.time.size()));
-  const double width = a.width;
-  Series front_series;
-  for (std::size_t i = 0; i < a.time.size(); ++i)
-    if (std::isfinite(a.front[i])) {
-      front_series.t.push_back(a.time[i]);
-      front_series.y.push_back(a.front[i]);
-    }
+namespace {
 
-  const Series far_wall{a.time, a.far_wall_height};
-  a.far_wall_arrival = first_rise_to(far_wall, a.downstream_depth + a.front_threshold);
-  if (!a.far_wall_arrival)
-    a.notes.push_back(fmt::format("the surface at the far wall never rose {:.3g} m above its initial height",
-                                  a.front_threshold));
-  // The front's speed on its first crossing of the middle half of the tank, before it reaches the wall.
+// The front's speed on its first crossing of the middle half of the tank, before it reaches the
+// far wall.
+void measure_front_speed(WaveAnalysis& a) {
+  const double width = a.width;
   Series first_transit;
-  for (std::size_t i = 0; i < front_series.size(); ++i) {
-    if (a.far_wall_arrival && front_series.t[i] > *a.far_wall_arrival) break;
-    if (front_series.y[i] >= 0.25 * width && front_series.y[i] <= 0.75 * width) {
-      first_transit.t.push_back(front_series.t[i]);
-      first_transit.y.push_back(front_series.y[i]);
+  for (std::size_t i = 0; i < a.time.size(); ++i) {
+    if (!std::isfinite(a.front[i])) continue;
+    if (a.far_wall_arrival && a.time[i] > *a.far_wall_arrival) break;
+    if (a.front[i] >= 0.25 * width && a.front[i] <= 0.75 * width) {
+      first_transit.t.push_back(a.time[i]);
+      first_transit.y.push_back(a.front[i]);
     }
   }
   if (first_transit.size() >= 3) a.front_fit = fit_line(first_transit, first_transit.t.front(), first_transit.t.back());
   else
     a.notes.push_back(fmt::format("the wave front crossed the middle half of the tank in {} frame{}; a front speed needs 3",
                                   first_transit.size(), first_transit.size() == 1 ? "" : "s"));
+}
 
-  a.transits = find_transits(Series{a.time, a.crest_x}, width);
+// The crest's transits, and their mean speed over the first transits_wanted of them.
+void measure_crest_speed(WaveAnalysis& a) {
+  a.transits = find_transits(Series{a.time, a.crest_x}, a.width);
   double sum = 0.0;
   for (const Transit& t : a.transits) {
     if (a.transits_averaged >= a.transits_wanted) break;
@@ -230,7 +222,10 @@ void finish_wave_analysis(WaveAnalysis& a) {
   if (a.transits_averaged > 0 && a.transits_averaged < a.transits_wanted)
     a.notes.push_back(fmt::format("only {} crest transit{} found; the mean crest speed is over those", a.transits_averaged,
                                   a.transits_averaged == 1 ? "" : "s"));
+}
 
+// The sloshing period, from the centre of mass in two ways.
+void measure_periods(WaveAnalysis& a) {
   const Series centre{a.time, a.centre_of_mass_x};
   try {
     a.period_zero_crossings = period_from_zero_crossings(centre);
@@ -242,6 +237,20 @@ void finish_wave_analysis(WaveAnalysis& a) {
   } catch (const AnalysisError& e) {
     a.notes.push_back(fmt::format("sloshing period (autocorrelation): {}", e.what()));
   }
+}
+
+}  // namespace
+
+void finish_wave_analysis(WaveAnalysis& a) {
+  if (a.time.size() < 2) throw AnalysisError(fmt::format("a wave analysis needs at least 2 frames; got {}", a.time.size()));
+  const Series far_wall{a.time, a.far_wall_height};
+  a.far_wall_arrival = first_rise_to(far_wall, a.downstream_depth + a.front_threshold);
+  if (!a.far_wall_arrival)
+    a.notes.push_back(fmt::format("the surface at the far wall never rose {:.3g} m above its initial height",
+                                  a.front_threshold));
+  measure_front_speed(a);
+  measure_crest_speed(a);
+  measure_periods(a);
 }
 
 WaveAnalysis analyze_waves(const std::vector<Frame>& frames, double width, double g, const WaveOptions& options) {

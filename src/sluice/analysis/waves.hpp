@@ -43,7 +43,6 @@ struct Transit {
   int direction = 0;            // +1 to the right, -1 to the left
   double t_start = 0.0, t_end = 0.0;
   double speed = 0.0;           // |slope| of a straight line through the crest positions
-  std::size_t samples = 0;
 };
 // Transits of a crest path x(t) in a tank of width `width`: runs of consecutive samples with the crest
 // in [width/4, 3 width/4] that move it at least width/4 in one direction. A jump of more than width/8
@@ -69,7 +68,7 @@ struct WaveOptions {
 struct WaveAnalysis {
   // Time series, one sample per frame.
   std::vector<double> time, crest_x, crest_height, front, centre_of_mass_x, far_wall_height;
-  double width = 0.0, g = 0.0, dx = 0.0;
+  double width = 0.0, dx = 0.0;
   double mean_depth = 0.0;          // h0: fluid area / tank width
   double upstream_depth = 0.0;      // initial surface at the left wall
   double downstream_depth = 0.0;    // initial surface at the right wall

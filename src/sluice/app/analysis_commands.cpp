@@ -13,7 +13,7 @@
 #include "sluice/analysis/validation.hpp"
 #include "sluice/analysis/wave_report.hpp"
 #include "sluice/app/commands.hpp"
-#include "sluice/case/params.hpp"
+#include "sluice/case/overrides.hpp"
 #include "sluice/io/checkpoint.hpp"
 
 namespace fs = std::filesystem;
@@ -21,15 +21,6 @@ namespace fs = std::filesystem;
 namespace sluice::app {
 
 namespace {
-
-
-// A built-in case name or a case file, as `sluice run` takes it.
-Case case_from_argument(const std::string& name_or_path) {
-  std::error_code ec;
-  if (!fs::exists(name_or_path, ec) || fs::is_directory(name_or_path, ec))
-    if (auto c = load_builtin_case(name_or_path)) return *c;
-  return load_case_file(name_or_path);
-}
 
 std::vector<double> parse_dx_list(const std::string& text) {
   std::vector<double> out;

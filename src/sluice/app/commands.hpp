@@ -9,6 +9,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "sluice/case/case.hpp"
+
 namespace sluice::app {
 
 // Exit codes: 0 success, 1 the run failed (I/O, a damaged file, an unstable run), 2 bad input
@@ -34,6 +36,10 @@ Command add_render_command(CLI::App& app);
 Command add_analyze_command(CLI::App& app);      // analysis_commands.cpp
 Command add_convergence_command(CLI::App& app);  // analysis_commands.cpp
 Command add_validate_command(CLI::App& app);     // analysis_commands.cpp
+
+// A case named on the command line (run_command.cpp): a built-in case name, unless a file of that
+// name exists, or a case file.
+Case case_from_argument(const std::string& name_or_path);
 
 // For `sluice run --render FIELD` (render_command.cpp): the field is checked before the run (BadInput
 // if unknown), and the run's animation drawn after it.

@@ -3,26 +3,79 @@
 #include <csignal>
 #include <cstdlib>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <unistd.h>
 
 #include "sluice/app/commands.hpp"
-#include "sluice/case/params.hpp"
-#include "sluice/io/atomic_file.hpp"
-#include "sluice/io/npz.hpp"
+#include "sluice/case/case_error.hpp"
+#include "sluice/case/suggest.hpp"
 
 using namespace sluice;
 
-int main(int argc, char** argv) {
-  // OpenMP threads that spin while waiting at a barrier take the cores other processes need, and on a
-  // busy machine a 2-thread run then took 4x longer than a 1-thread one (14.4 s vs 3.6 s measured).
-  // The OpenMP runtime reads OMP_WAIT_POLICY once, before main(), so unless the user chose a policy
-  // sluice restarts itself once with the passive one (threads sleep while they wait).
+namespace {
+
+// OpenMP threads that spin while waiting at a barrier take the cores other processes need: on a
+// busy machine a 2-thread run can take several times longer than a 1-thread one. The OpenMP
+// runtime reads OMP_WAIT_POLICY once, before main(), so unless the user chose a policy sluice
+// restarts itself once with the passive one (threads sleep while they wait).
+void restart_with_passive_waiting(char** argv) {
   if (std::getenv("OMP_WAIT_POLICY") == nullptr && ::setenv("OMP_WAIT_POLICY", "PASSIVE", 1) == 0)
     ::execv("/proc/self/exe", argv);  // returns only if it failed; then carry on as we are
+}
 
+// No command, an option where the command belongs, or an unknown command: CLI11 would only say "A
+// subcommand is required". The exit status if the first argument is not a command.
+std::optional<int> refuse_missing_command(int argc, char** argv, const std::vector<app::Command>& commands) {
+  std::vector<std::string> names;
+  for (const auto& c : commands) names.push_back(c.cli->get_name());
+  std::string list;
+  for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+  if (argc == 1) {
+    std::cerr << "sluice: error: no command given; expected one of: " << list
+              << "\nRun `sluice --help` for the commands.\n";
+    return app::exit_bad_input;
+  }
+  const std::string first = argv[1];
+  if (first[0] == '-' && first != "-h" && first != "--help" && first != "--version") {
+    std::cerr << "sluice: error: unknown option '" << first << "'; expected a command (" << list
+              << "), --help or --version\nRun `sluice --help` for the commands.\n";
+    return app::exit_bad_input;
+  }
+  if (first[0] != '-' && std::find(names.begin(), names.end(), first) == names.end()) {
+    const auto near = closest_match(first, names);
+    std::cerr << "sluice: error: unknown command '" << first << "'; "
+              << (near ? "did you mean '" + *near + "'?" : "expected one of: " + list)
+              << "\nRun `sluice --help` for the commands.\n";
+    return app::exit_bad_input;
+  }
+  return std::nullopt;
+}
+
+// Runs the command given, with every error as "sluice: error: ..." and its exit status.
+int run_parsed(const std::vector<app::Command>& commands) {
+  try {
+    for (const auto& c : commands)
+      if (c.cli->parsed()) return c.run();
+  } catch (const CaseError& e) {
+    std::cerr << "sluice: error: " << e.what() << "\n";
+    return app::exit_bad_input;
+  } catch (const app::BadInput& e) {
+    std::cerr << "sluice: error: " << e.what() << "\n";
+    return app::exit_bad_input;
+  } catch (const std::exception& e) {  // IoError, FormatError, a failed run
+    std::cerr << "sluice: error: " << e.what() << "\n";
+    return app::exit_failure;
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  restart_with_passive_waiting(argv);
   // Past a file-size limit (ulimit -f) a write then fails with EFBIG and is reported like a full disk,
   // instead of the process being killed by SIGXFSZ.
   std::signal(SIGXFSZ, SIG_IGN);
@@ -40,32 +93,7 @@ int main(int argc, char** argv) {
       app::add_convergence_command(cli),
       app::add_validate_command(cli),
   };
-
-  // No command, or an unknown one: CLI11 would only say "A subcommand is required".
-  std::vector<std::string> names;
-  for (const auto& c : commands) names.push_back(c.cli->get_name());
-  std::string list;
-  for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
-  if (argc == 1) {
-    std::cerr << "sluice: error: no command given; expected one of: " << list
-              << "\nRun `sluice --help` for the commands.\n";
-    return app::exit_bad_input;
-  }
-  const std::string first = argv[1];
-  if (first[0] == '-' && first != "-h" && first != "--help" && first != "--version") {
-    std::cerr << "sluice: error: unknown option '" << first << "'; expected a command (" << list
-              << "), --help or --version\nRun `sluice --help` for the commands.\n";
-    return app::exit_bad_input;
-  }
-  if (first[0] != '-') {
-    if (std::find(names.begin(), names.end(), argv[1]) == names.end()) {
-      const auto near = closest_match(argv[1], names);
-      std::cerr << "sluice: error: unknown command '" << argv[1] << "'; "
-                << (near ? "did you mean '" + *near + "'?" : "expected one of: " + list)
-                << "\nRun `sluice --help` for the commands.\n";
-      return app::exit_bad_input;
-    }
-  }
+  if (const auto status = refuse_missing_command(argc, argv, commands)) return *status;
 
   try {
     cli.parse(argc, argv);
@@ -75,23 +103,9 @@ int main(int argc, char** argv) {
     // Same form as every other error: "sluice: error: ..." on stderr, exit status 2.
     std::string help = "sluice --help";
     for (const auto& c : commands)
-      if (argc > 1 && c.cli->get_name() == argv[1]) help = "sluice " + c.cli->get_name() + " --help";
+      if (c.cli->get_name() == argv[1]) help = "sluice " + c.cli->get_name() + " --help";
     std::cerr << "sluice: error: " << e.what() << "\nRun `" << help << "` for the options.\n";
     return app::exit_bad_input;
   }
-
-  try {
-    for (const auto& c : commands)
-      if (c.cli->parsed()) return c.run();
-  } catch (const CaseError& e) {
-    std::cerr << "sluice: error: " << e.what() << "\n";
-    return app::exit_bad_input;
-  } catch (const app::BadInput& e) {
-    std::cerr << "sluice: error: " << e.what() << "\n";
-    return app::exit_bad_input;
-  } catch (const std::exception& e) {  // IoError, FormatError, a failed run
-    std::cerr << "sluice: error: " << e.what() << "\n";
-    return app::exit_failure;
-  }
-  return 0;
+  return run_parsed(commands);
 }

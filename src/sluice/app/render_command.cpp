@@ -5,7 +5,10 @@
 #include <memory>
 
 #include "sluice/app/commands.hpp"
+#include "sluice/render/fields.hpp"
+#include "sluice/render/options.hpp"
 #include "sluice/render/render.hpp"
+#include "sluice/render/render_error.hpp"
 
 namespace fs = std::filesystem;
 

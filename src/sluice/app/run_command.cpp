@@ -11,7 +11,10 @@
 #include <memory>
 
 #include "sluice/app/commands.hpp"
-#include "sluice/case/params.hpp"
+#include "sluice/case/builtin_cases.hpp"
+#include "sluice/case/case_template.hpp"
+#include "sluice/case/load.hpp"
+#include "sluice/case/overrides.hpp"
 #include "sluice/io/atomic_file.hpp"
 #include "sluice/io/run.hpp"
 
@@ -26,17 +29,6 @@ std::atomic<bool> stop_requested{false};
 extern "C" void on_signal(int signal) {
   stop_requested.store(true);
   std::signal(signal, SIG_DFL);  // a second Ctrl-C stops at once
-}
-
-Case resolve_case(const std::string& name_or_path) {
-  if (name_or_path.empty()) return *load_builtin_case("dam_break");
-  std::error_code ec;
-  // A built-in name, unless a file of that name exists (a directory of that name, such as the output
-  // of `sluice run dam_break -o dam_break`, does not hide the built-in case).
-  if (!fs::exists(name_or_path, ec) || fs::is_directory(name_or_path, ec)) {
-    if (auto c = load_builtin_case(name_or_path)) return *c;
-  }
-  return load_case_file(name_or_path);
 }
 
 struct RunArgs {
@@ -61,7 +53,7 @@ int run(const RunArgs& a) {
     options.output_dir = a.output.empty() ? fs::path(a.restart).parent_path() : fs::path(a.output);
     if (options.output_dir.empty()) options.output_dir = ".";
   } else {
-    c = resolve_case(a.case_arg);
+    c = a.case_arg.empty() ? *load_builtin_case("dam_break") : case_from_argument(a.case_arg);
     apply_overrides(c, a.sets);
     options.output_dir = a.output.empty() ? fs::path("out") / c.name : fs::path(a.output);
   }
@@ -84,6 +76,16 @@ int run(const RunArgs& a) {
 }
 
 }  // namespace
+
+Case case_from_argument(const std::string& name_or_path) {
+  std::error_code ec;
+  // A built-in name, unless a file of that name exists (a directory of that name, such as the output
+  // of `sluice run dam_break -o dam_break`, does not hide the built-in case).
+  if (!fs::exists(name_or_path, ec) || fs::is_directory(name_or_path, ec)) {
+    if (auto c = load_builtin_case(name_or_path)) return *c;
+  }
+  return load_case_file(name_or_path);
+}
 
 Command add_run_command(CLI::App& app) {
   auto args = std::make_shared<RunArgs>();

@@ -1,5 +1,5 @@
 // A case: everything that defines a run, as plain data. Filled from a TOML file by the loader
-// (case/params.hpp); the solver reads it and knows nothing of files.
+// (case/load.hpp); the solver reads it and knows nothing of files.
 //
 // Vectors have three components; a 2D case uses the first two (the third is 0). The up axis is the
 // last one: y in 2D, z in 3D.

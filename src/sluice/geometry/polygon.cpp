@@ -73,10 +73,7 @@ SurfacePoint<2> Polygon::closest_surface_point(const Vec2& p) const {
 // edges leave a wedge empty). Only points inside the polygon are kept.
 void Polygon::fill_surface_layers(double dx, int layers, const std::function<void(const Vec2&)>& add) const {
   const std::size_t n = points.size();
-  double twice_area = 0.0;
-  for (std::size_t k = 0, j = n - 1; k < n; j = k++)
-    twice_area += points[j][0] * points[k][1] - points[k][0] * points[j][1];
-  const double orientation = twice_area > 0.0 ? 1.0 : -1.0;  // +1: counter-clockwise
+  const double orientation = twice_signed_area() > 0.0 ? 1.0 : -1.0;  // +1: counter-clockwise
   auto edge = [&](std::size_t k) {
     const Vec2 a = points[k], b = points[(k + 1) % n];
     const double length = norm(b - a);
@@ -129,12 +126,14 @@ Vec2 Polygon::upper() const {
   return hi;
 }
 
-double Polygon::area() const {
+double Polygon::twice_signed_area() const {
   double twice = 0.0;
   const std::size_t n = points.size();
   for (std::size_t i = 0, j = n - 1; i < n; j = i++)
     twice += points[j][0] * points[i][1] - points[i][0] * points[j][1];
-  return 0.5 * std::abs(twice);
+  return twice;
 }
+
+double Polygon::area() const { return 0.5 * std::abs(twice_signed_area()); }
 
 }  // namespace sluice

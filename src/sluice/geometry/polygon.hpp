@@ -12,7 +12,6 @@ class Polygon final : public Solid<2> {
  public:
   std::vector<Vec2> points;  // vertices in order (either orientation), implicitly closed
 
-  Polygon() = default;
   explicit Polygon(std::vector<Vec2> vertices) : points(std::move(vertices)) {}
   static Polygon box(Vec2 lower, Vec2 upper);
 
@@ -28,6 +27,9 @@ class Polygon final : public Solid<2> {
   [[nodiscard]] double distance_to_boundary(Vec2 p) const;
   [[nodiscard]] Vec2 closest_boundary_point(Vec2 p) const;
   [[nodiscard]] double area() const;  // unsigned
+
+ private:
+  [[nodiscard]] double twice_signed_area() const;  // positive if the points run counter-clockwise
 };
 
 }  // namespace sluice

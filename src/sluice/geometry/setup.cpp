@@ -26,6 +26,20 @@ std::shared_ptr<const Solid<Dim>> make_box(const Vec<Dim>& lower, const Vec<Dim>
   else return std::make_shared<Box<Dim>>(lower, upper);
 }
 
+// A wall slab: the lattice axes of its particles and the box they fill.
+template <int Dim>
+struct Slab {
+  std::array<std::vector<double>, Dim> axes;
+  Vec<Dim> lo{}, hi{};
+
+  // Axis a from `from` to `to`, its lattice anchored at `anchor`.
+  void span(int a, double anchor, double from, double to, double dx) {
+    axes[a] = lattice(anchor, from, to, dx);
+    lo[a] = from;
+    hi[a] = to;
+  }
+};
+
 // The tank: a floor slab under everything, the side walls axis by axis, and the lid. Each wall's layers
 // are anchored at its own inner face, so the first layer sits dx/2 behind it. The walls across x take
 // the whole extent of the other horizontal axis (corners included); the later ones only the inside.
@@ -36,52 +50,28 @@ void add_tank(Setup<Dim>& s, const Case& c) {
   const double depth = wall_layers(c) * dx;
   const Vec3 size = c.tank_size();
   const double height = size[up];
-  auto add_slab = [&](const std::array<std::vector<double>, Dim>& axes, const Vec<Dim>& lo, const Vec<Dim>& hi) {
-    for_each_product_point<Dim>(axes, [&](const Vec<Dim>& x) { s.particles.add(x, Kind::wall, c.rest_density); });
-    s.solids.push_back(make_box<Dim>(lo, hi));
+  auto add_slab = [&](const Slab<Dim>& slab) {
+    for_each_product_point<Dim>(slab.axes, [&](const Vec<Dim>& x) { s.particles.add(x, Kind::wall, c.rest_density); });
+    s.solids.push_back(make_box<Dim>(slab.lo, slab.hi));
   };
-  std::array<std::vector<double>, Dim> full;  // horizontal axes across the side walls
-  Vec<Dim> full_lo{}, full_hi{};
+  Slab<Dim> full;  // the horizontal axes across the side walls
+  for (int a = 0; a < up; ++a) full.span(a, 0.0, -depth, size[a] + depth, dx);
+  Slab<Dim> floor = full;
+  floor.span(up, 0.0, -depth, 0.0, dx);
+  add_slab(floor);
   for (int a = 0; a < up; ++a) {
-    full[a] = lattice(0.0, -depth, size[a] + depth, dx);
-    full_lo[a] = -depth;
-    full_hi[a] = size[a] + depth;
-  }
-  {
-    auto axes = full;
-    Vec<Dim> lo = full_lo, hi = full_hi;
-    axes[up] = lattice(0.0, -depth, 0.0, dx);
-    lo[up] = -depth;
-    hi[up] = 0.0;
-    add_slab(axes, lo, hi);
-  }
-  for (int a = 0; a < up; ++a) {
-    auto axes = full;
-    Vec<Dim> lo = full_lo, hi = full_hi;
-    for (int b = 0; b < a; ++b) {
-      axes[b] = lattice(0.0, 0.0, size[b], dx);
-      lo[b] = 0.0;
-      hi[b] = size[b];
-    }
-    axes[up] = lattice(0.0, 0.0, height, dx);
-    lo[up] = 0.0;
-    hi[up] = height;
-    axes[a] = lattice(0.0, -depth, 0.0, dx);
-    lo[a] = -depth;
-    hi[a] = 0.0;
-    add_slab(axes, lo, hi);
-    axes[a] = lattice(size[a], size[a], size[a] + depth, dx);
-    lo[a] = size[a];
-    hi[a] = size[a] + depth;
-    add_slab(axes, lo, hi);
+    Slab<Dim> wall = full;
+    for (int b = 0; b < a; ++b) wall.span(b, 0.0, 0.0, size[b], dx);
+    wall.span(up, 0.0, 0.0, height, dx);
+    wall.span(a, 0.0, -depth, 0.0, dx);
+    add_slab(wall);
+    wall.span(a, size[a], size[a], size[a] + depth, dx);
+    add_slab(wall);
   }
   if (c.tank_lid) {
-    auto axes = full;
-    Vec<Dim> lo = full_lo, hi = full_hi;
-    axes[up] = lattice(height, height, height + depth, dx);
-    lo[up] = height;
-    hi[up] = height + depth;
-    add_slab(axes, lo, hi);
+    Slab<Dim> lid = full;
+    lid.span(up, height, height, height + depth, dx);
+    add_slab(lid);
   }
 }
 

@@ -6,14 +6,6 @@
 
 namespace sluice::render {
 
-std::string_view colormap_name(Colormap map) {
-  switch (map) {
-    case Colormap::viridis: return "viridis";
-    case Colormap::coolwarm: return "coolwarm";
-  }
-  return "?";
-}
-
 namespace {
 
 Rgb interpolate(std::span<const std::array<float, 3>> knots, double t) {

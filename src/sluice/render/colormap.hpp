@@ -5,7 +5,6 @@
 
 #include <array>
 #include <cstdint>
-#include <string_view>
 
 namespace sluice::render {
 
@@ -15,8 +14,6 @@ struct Rgb {
 };
 
 enum class Colormap { viridis, coolwarm };
-
-std::string_view colormap_name(Colormap map);
 
 // The colour at t in [0, 1] (clamped; NaN gives the low end), each channel rounded to 8 bits.
 Rgb colormap_at(Colormap map, double t);

@@ -64,8 +64,7 @@ bool encode_png_c(const std::uint8_t* pixels, int width, int height, const png_c
   return true;
 }
 
-}  // namespace
-
+// PNG bytes of `image` (8-bit palette PNG).
 std::string encode_png(const IndexedImage& image, const Palette& palette) {
   png_color colours[256];
   for (int i = 0; i < 256; ++i) colours[i] = {palette.colours[i].r, palette.colours[i].g, palette.colours[i].b};
@@ -75,6 +74,8 @@ std::string encode_png(const IndexedImage& image, const Palette& palette) {
     throw IoError(fmt::format("libpng could not encode a {}x{} picture: {}", image.width, image.height, error));
   return out;
 }
+
+}  // namespace
 
 void write_png(const std::filesystem::path& path, const IndexedImage& image, const Palette& palette) {
   write_file_atomic(path, encode_png(image, palette));

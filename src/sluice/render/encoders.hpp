@@ -12,9 +12,7 @@
 
 namespace sluice::render {
 
-// PNG bytes of `image` (8-bit palette PNG).
-std::string encode_png(const IndexedImage& image, const Palette& palette);
-// Writes a PNG file atomically (IoError on failure).
+// Writes `image` as an 8-bit palette PNG file, atomically (IoError on failure).
 void write_png(const std::filesystem::path& path, const IndexedImage& image, const Palette& palette);
 
 // An animation being written: frames are added in order, then finish() completes the file. A writer

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "sluice/render/render.hpp"
+#include "sluice/render/render_error.hpp"
 
 #ifndef SLUICE_FONT_FILE
 #error "SLUICE_FONT_FILE must name the default TrueType font (set by CMake)"
@@ -21,6 +21,9 @@ std::filesystem::path default_font_file() {
   return SLUICE_FONT_FILE;
 }
 
+namespace {
+
+// Decodes UTF-8 (invalid bytes become U+FFFD).
 std::u32string decode_utf8(std::string_view s) {
   std::u32string out;
   for (std::size_t i = 0; i < s.size();) {
@@ -50,8 +53,6 @@ std::u32string decode_utf8(std::string_view s) {
   }
   return out;
 }
-
-namespace {
 
 // Everything sluice writes: printable ASCII and a few symbols of units and labels.
 std::u32string wanted_characters() {

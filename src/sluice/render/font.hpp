@@ -18,7 +18,7 @@ std::filesystem::path default_font_file();
 
 class Font {
  public:
-  // Throws RenderError (render.hpp) if the file is missing or not a font FreeType reads.
+  // Throws RenderError (render_error.hpp) if the file is missing or not a font FreeType reads.
   Font(const std::filesystem::path& file, int pixel_size);
 
   [[nodiscard]] int pixel_size() const { return pixel_size_; }
@@ -41,8 +41,5 @@ class Font {
   int digit_height_ = 0;
   std::map<char32_t, Glyph> glyphs_;
 };
-
-// Decodes UTF-8 (invalid bytes become U+FFFD).
-std::u32string decode_utf8(std::string_view s);
 
 }  // namespace sluice::render

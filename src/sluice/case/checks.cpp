@@ -1,0 +1,141 @@
+#include "sluice/case/checks.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <utility>
+#include <vector>
+
+#include "sluice/case/case_error.hpp"
+#include "sluice/case/value_text.hpp"
+
+namespace sluice {
+
+namespace {
+
+// Raises the problems of one case, all prefixed with where the case came from.
+struct Checker {
+  const Case& c;
+  const std::string& source;
+
+  [[noreturn]] void fail(const std::string& what) const { throw CaseError(fmt::format("{}: {}", source, what)); }
+
+  // The name is the default output folder out/<name> and the .pvd file's name: it must be one plain
+  // path component.
+  void check_name() const {
+    const bool control_char = std::any_of(c.name.begin(), c.name.end(), [](char ch) {
+      return static_cast<unsigned char>(ch) < 0x20 || static_cast<unsigned char>(ch) == 0x7f;
+    });
+    if (c.name.empty() || c.name == "." || c.name == ".." || c.name.find_first_of("/\\") != std::string::npos ||
+        control_char)
+      fail(fmt::format("case.name = {}: not a usable name; expected a non-empty name without slashes or control "
+                       "characters, other than \".\" and \"..\" (it names the output folder out/<name>)",
+                       quote(c.name)));
+  }
+
+  void check_tank_size() const {
+    const Vec3 tank = c.tank_size();
+    std::vector<std::string> sizes;
+    for (int d = 0; d < c.dimension; ++d) sizes.push_back(fmt::format("{} m", tank[d]));
+    for (int d = 0; d < c.dimension; ++d)
+      if (tank[d] < 2.0 * c.dx)
+        fail(fmt::format("the tank ({}) is smaller than two particle spacings (dx = {} m)", fmt::join(sizes, " x "),
+                         c.dx));
+  }
+
+  // The bounding box of a box region, after checking that it has an inside.
+  std::pair<Vec3, Vec3> box_bounds(const Region& r, const std::string& what, std::size_t i) const {
+    for (int d = 0; d < c.dimension; ++d)
+      if (!(r.min[d] < r.max[d]))
+        fail(fmt::format("[[{}]] number {}: min {} must be below max {} in every component (a box needs both)", what,
+                         i + 1, format_vector(r.min, c.dimension), format_vector(r.max, c.dimension)));
+    return {r.min, r.max};
+  }
+
+  // The bounding box of a polygon region, after checking that it is 2D and encloses an area.
+  std::pair<Vec3, Vec3> polygon_bounds(const Region& r, const std::string& what, std::size_t i) const {
+    if (c.dimension != 2)
+      fail(fmt::format("[[{}]] number {}: a polygon is a 2D shape and this case is {}D; expected shape = \"box\"",
+                       what, i + 1, c.dimension));
+    if (r.points.size() < 3)
+      fail(fmt::format("[[{}]] number {}: a polygon needs at least 3 points, got {}", what, i + 1, r.points.size()));
+    Vec3 lo{r.points[0][0], r.points[0][1], 0.0}, hi = lo;
+    double twice_area = 0.0;
+    for (std::size_t k = 0, j = r.points.size() - 1; k < r.points.size(); j = k++) {
+      for (int d = 0; d < 2; ++d) {
+        lo[d] = std::min(lo[d], r.points[k][d]);
+        hi[d] = std::max(hi[d], r.points[k][d]);
+      }
+      twice_area += r.points[j][0] * r.points[k][1] - r.points[k][0] * r.points[j][1];
+    }
+    if (std::abs(twice_area) < 1e-12 * std::max(1.0, (hi[0] - lo[0]) * (hi[1] - lo[1])))
+      fail(fmt::format("[[{}]] number {}: the polygon's points enclose no area", what, i + 1));
+    return {lo, hi};
+  }
+
+  std::pair<Vec3, Vec3> region_bounds(const Region& r, const std::string& what, std::size_t i) const {
+    return r.shape == Shape::box ? box_bounds(r, what, i) : polygon_bounds(r, what, i);
+  }
+
+  void check_water() const {
+    if (c.water.empty()) fail("no [[water]] region; a case needs at least one");
+    const Vec3 tank = c.tank_size();
+    std::vector<std::string> extent;
+    for (int d = 0; d < c.dimension; ++d) extent.push_back(fmt::format("[0, {}]", tank[d]));
+    const double tol = 1e-9 * *std::max_element(tank.begin(), tank.begin() + c.dimension);
+    for (std::size_t i = 0; i < c.water.size(); ++i) {
+      const auto [lo, hi] = region_bounds(c.water[i], "water", i);
+      for (int d = 0; d < c.dimension; ++d)
+        if (lo[d] < -tol || hi[d] > tank[d] + tol)
+          fail(fmt::format("[[water]] number {} (from {} to {}) reaches outside the tank {}", i + 1,
+                           format_vector(lo, c.dimension), format_vector(hi, c.dimension), fmt::join(extent, " x ")));
+    }
+  }
+
+  void check_walls() const {
+    for (std::size_t i = 0; i < c.walls.size(); ++i) region_bounds(c.walls[i], "wall", i);
+  }
+
+  void check_probes() const {
+    std::set<std::string> names;
+    for (std::size_t i = 0; i < c.probes.size(); ++i) {
+      const Probe& p = c.probes[i];
+      if (p.name.empty() || p.name.find_first_of("/\\ ") != std::string::npos)
+        fail(fmt::format("[[probe]] number {}: name \"{}\" must be non-empty, without spaces or slashes", i + 1,
+                         p.name));
+      if (!names.insert(p.name).second) fail(fmt::format("[[probe]] name \"{}\" is used twice", p.name));
+      if (p.type == ProbeType::front && norm(p.direction) == 0.0)
+        fail(fmt::format("[[probe]] \"{}\": direction must not be {}", p.name, format_vector(p.direction, c.dimension)));
+    }
+  }
+
+  // The set-up fills the tank and its walls (2h each side) with a lattice: a bound on its points keeps
+  // a mistyped dx from exhausting memory.
+  void check_particle_count() const {
+    const double max_points = 5e8;
+    const Vec3 tank = c.tank_size();
+    double lattice_points = 1.0;
+    for (int d = 0; d < c.dimension; ++d) lattice_points *= (tank[d] + 4 * c.smoothing_length()) / c.dx;
+    if (lattice_points > max_points)
+      fail(fmt::format("domain.dx = {} m gives more than {:.0e} lattice points in the tank; expected a larger dx",
+                       c.dx, max_points));
+  }
+};
+
+}  // namespace
+
+void validate_case(const Case& c, const std::string& source) {
+  const Checker check{c, source};
+  check.check_name();
+  check.check_tank_size();
+  check.check_water();
+  check.check_walls();
+  check.check_probes();
+  if (c.output_formats.empty()) check.fail("output.formats is empty; expected at least one of \"vtk\", \"npz\"");
+  check.check_particle_count();
+}
+
+}  // namespace sluice

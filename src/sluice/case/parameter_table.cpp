@@ -1,0 +1,207 @@
+#include "sluice/case/parameter_table.hpp"
+
+#include <array>
+#include <string_view>
+
+namespace sluice {
+
+namespace {
+
+constexpr double unbounded_lower = 1.0;
+constexpr double unbounded_upper = -1.0;
+
+template <class Owner, class T>
+Param<Owner> declare(std::string key, T Owner::*field, std::string unit, ParamValue def, double lower, double upper,
+                     std::string description, std::vector<std::string> choices = {}) {
+  return Param<Owner>{std::move(key), field,  std::move(unit),    std::move(def),
+                      lower,          upper,  std::move(choices), std::move(description)};
+}
+
+template <class T>
+struct member_of;
+template <class O, class T>
+struct member_of<T O::*> {
+  using owner = O;
+  using type = T;
+};
+
+// An enum field, written in the case file as one of `names` (in enum order).
+template <auto Member, std::size_t N>
+auto declare_choice(std::string key, typename member_of<decltype(Member)>::type def,
+                    const std::array<std::string_view, N>& names, std::string description) {
+  using Owner = typename member_of<decltype(Member)>::owner;
+  using E = typename member_of<decltype(Member)>::type;
+  const ChoiceField<Owner> field{+[](const Owner& o) { return static_cast<int>(o.*Member); },
+                                 +[](Owner& o, int i) { o.*Member = static_cast<E>(i); }};
+  return Param<Owner>{std::move(key),
+                      field,
+                      "",
+                      std::string(names[static_cast<std::size_t>(def)]),
+                      unbounded_lower,
+                      unbounded_upper,
+                      std::vector<std::string>(names.begin(), names.end()),
+                      std::move(description)};
+}
+
+// Marks on a declaration, written around it in the tables below.
+template <class Owner>
+Param<Owner> with_3d_default(ParamValue def, Param<Owner> p) {
+  p.default_3d = std::move(def);
+  return p;
+}
+
+template <class Owner>
+Param<Owner> only_in_3d(Param<Owner> p) {
+  p.only_3d = true;
+  return p;
+}
+
+template <class Owner>
+Param<Owner> required(Param<Owner> p) {
+  p.default_value = std::monostate{};
+  return p;
+}
+
+template <class Owner>
+Param<Owner> used_by(bool (*applies)(const Owner&), Param<Owner> p) {
+  p.applies = applies;
+  return p;
+}
+
+bool is_box(const Region& r) { return r.shape == Shape::box; }
+bool is_polygon(const Region& r) { return r.shape == Shape::polygon; }
+
+}  // namespace
+
+const std::vector<Section>& case_sections() {
+  static const std::vector<Section> sections = {
+      {"case", "What this case is.", false},
+      {"domain", "Discretisation.", false},
+      {"tank", "The closed box tank: inner walls at x = 0 and x = width (and in 3D y = 0 and y = depth), the floor at up = 0 and (with a lid) the top at up = height; up is y in 2D, z in 3D.", false},
+      {"fluid", "Fluid properties and the weakly-compressible equation of state.", false},
+      {"physics", "Forces and stabilisation.", false},
+      {"time", "Time integration.", false},
+      {"output", "What is written, and how often.", false},
+      {"water", "Regions filled with water at rest. Repeat [[water]] for each region; overlaps are merged.", true},
+      {"wall", "Solid obstacles inside the tank (walls of the tank itself come from [tank]). Repeat [[wall]] per obstacle; each is filled with wall particles to a depth of 2h inside its outline.", true},
+      {"probe", "Time series sampled during the run and written to probes/<name>.csv. Repeat [[probe]] per probe.", true},
+  };
+  return sections;
+}
+
+const std::vector<Param<Case>>& case_params() {
+  constexpr double inf = 1e300;
+  static const std::vector<Param<Case>> params = {
+      declare("case.name", &Case::name, "", std::string("unnamed"), unbounded_lower, unbounded_upper,
+              "Name of the case; the default output folder is out/<name>."),
+      declare("case.description", &Case::description, "", std::string(""), unbounded_lower, unbounded_upper,
+              "One line saying what the case is."),
+      declare("domain.dimension", &Case::dimension, "", 2, 2.0, 3.0,
+              "Space dimensions: 2 (x, y; y up) or 3 (x, y, z; z up). Vectors have this many components."),
+      declare("domain.dx", &Case::dx, "m", 0.2, 1e-4, 100.0, "Particle spacing (dx); particle mass is rho0 * dx^2 (dx^3 in 3D)."),
+      declare("domain.h_over_dx", &Case::h_over_dx, "", 1.3, 1.0, 3.0,
+              "Smoothing length in particle spacings: h = h_over_dx * dx. The kernel support is 2h."),
+      declare_choice<&Case::kernel>("domain.kernel", KernelType::cubic_spline, kernel_type_names, "Smoothing kernel."),
+      declare("tank.width", &Case::tank_width, "m", 20.0, 1e-3, 1e5, "Inner width of the tank (along x)."),
+      only_in_3d(declare("tank.depth", &Case::tank_depth, "m", 10.0, 1e-3, 1e5,
+                         "Inner depth of the tank (along y; 3D only).")),
+      declare("tank.height", &Case::tank_height, "m", 10.0, 1e-3, 1e5,
+              "Inner height of the tank (along the up axis: y in 2D, z in 3D)."),
+      declare("tank.lid", &Case::tank_lid, "", true, unbounded_lower, unbounded_upper,
+              "Close the tank with a wall at the top (up = height)."),
+      declare("fluid.density", &Case::rest_density, "kg/m^3", 1000.0, 1.0, 1e5, "Rest density rho0."),
+      declare("fluid.sound_speed", &Case::sound_speed, "m/s", 20.0, 1e-2, 1e5,
+              "Numerical speed of sound c0; keep it >= 10x the largest flow speed for density changes near 1%."),
+      declare("fluid.gamma", &Case::gamma, "", 7.0, 1.0, 10.0, "Tait exponent gamma: P = B((rho/rho0)^gamma - 1), B = rho0 c0^2/gamma."),
+      declare("fluid.viscosity", &Case::viscosity, "Pa s", 0.001, 0.0, 1e6, "Dynamic viscosity mu (water: 0.001)."),
+      with_3d_default(Vec3{0.0, 0.0, -9.81},
+                      declare("physics.gravity", &Case::gravity, "m/s^2", Vec3{0.0, -9.81, 0.0}, unbounded_lower,
+                              unbounded_upper, "Gravitational acceleration [gx, gy] in 2D, [gx, gy, gz] in 3D.")),
+      declare("physics.artificial_viscosity", &Case::artificial_viscosity, "", 0.1, 0.0, 1.0,
+              "Monaghan (1992) artificial viscosity alpha (0 = off)."),
+      declare("physics.artificial_pressure", &Case::artificial_pressure, "", 0.0, 0.0, 1.0,
+              "Monaghan (2000) artificial pressure epsilon against particle clumping (tensile instability): a "
+              "short-range repulsion eps |P|/rho^2 where P < 0 (and 0.01 P/rho^2 where P > 0); 0 = off, 0.2 is "
+              "Monaghan's value."),
+      declare("physics.artificial_pressure_exponent", &Case::artificial_pressure_exponent, "", 4, 1.0, 12.0,
+              "Exponent n of the artificial pressure's kernel ratio (W(r)/W(dx))^n."),
+      declare("physics.density_diffusion", &Case::density_diffusion, "", 0.1, 0.0, 1.0,
+              "delta-SPH density diffusion coefficient delta (Molteni & Colagrossi 2009, hydrostatic part removed as in Fourtakas et al. 2019; 0 = off)."),
+      declare("physics.shepard_every", &Case::shepard_every, "steps", 20, 0.0, 1e9,
+              "Re-initialise the fluid density with a Shepard filter every this many steps (0 = off)."),
+      declare("physics.initial_pressure", &Case::initial_pressure, "Pa", 0.0, -1e9, 1e9,
+              "Pressure added to the water's initial (hydrostatic) pressure; negative puts the water under tension "
+              "(see the tension case)."),
+      declare("physics.hydrostatic_start", &Case::hydrostatic_start, "", true, unbounded_lower, unbounded_upper,
+              "Start water (and the walls under it) at hydrostatic density, so water at rest stays at rest."),
+      declare_choice<&Case::wall_boundary>(
+              "physics.wall_boundary", WallBoundary::dynamic, wall_boundary_names,
+              "Wall treatment: dynamic (wall particles' density evolves by the continuity equation like the fluid's) "
+              "or adami (Adami, Hu & Adams 2012: wall pressure extrapolated from the fluid before each force "
+              "evaluation, hydrostatic term included, negative values clamped to 0; free slip: no artificial "
+              "viscosity between fluid and wall)."),
+      declare("time.end", &Case::end_time, "s", 30.0, 0.0, inf, "Simulated end time."),
+      declare_choice<&Case::integrator>(
+              "time.integrator", Integrator::predictor_corrector, integrator_names,
+              "Time integrator: forward Euler (one force evaluation per step) or predictor-corrector (two)."),
+      declare("time.cfl", &Case::cfl, "", 0.2, 0.1, 0.3,
+              "Courant number C_CFL: dt = C_CFL * min(h/|v_ij|max, sqrt(h/|a|max), h/c_max). Forward Euler amplifies "
+              "sound waves: use 0.1 with it."),
+      declare("time.dt", &Case::fixed_dt, "s", 0.0, 0.0, inf, "Fixed time step; 0 = adaptive (recommended)."),
+      declare("output.interval", &Case::output_interval, "s", 0.1, 1e-9, inf, "Simulated time between frames."),
+      declare("output.formats", &Case::output_formats, "", std::vector<std::string>{"vtk", "npz"}, unbounded_lower,
+              unbounded_upper, "Frame formats: vtk (ParaView .vtu + .pvd) and npz (NumPy).", {"vtk", "npz"}),
+      declare("output.checkpoint_interval", &Case::checkpoint_interval, "s", 0.0, 0.0, inf,
+              "Simulated time between checkpoints; 0 = only at the end (and on Ctrl-C)."),
+  };
+  return params;
+}
+
+const std::vector<Param<Region>>& region_params() {
+  static const std::vector<Param<Region>> params = {
+      declare_choice<&Region::shape>("shape", Shape::box, shape_names,
+                                     "Shape of the region: a box (min, max) or, in 2D, a polygon (points)."),
+      used_by(is_box, declare("min", &Region::min, "m", Vec3{}, unbounded_lower, unbounded_upper,
+                              "Box: lower corner [x, y] (2D) or [x, y, z] (3D).")),
+      used_by(is_box, declare("max", &Region::max, "m", Vec3{}, unbounded_lower, unbounded_upper,
+                              "Box: upper corner [x, y] (2D) or [x, y, z] (3D).")),
+      used_by(is_polygon,
+              declare("points", &Region::points, "m", std::vector<Vec2>{}, unbounded_lower, unbounded_upper,
+                      "Polygon (2D): its corners [[x, y], ...] in order around it (at least 3; closed automatically).")),
+  };
+  return params;
+}
+
+const std::vector<Param<Probe>>& probe_params() {
+  static const std::vector<Param<Probe>> params = {
+      declare("name", &Probe::name, "", std::monostate{}, unbounded_lower, unbounded_upper,
+              "Name of the probe; its series goes to probes/<name>.csv."),
+      // A probe must say what it measures: its type has no default.
+      required(declare_choice<&Probe::type>("type", ProbeType::pressure, probe_type_names,
+                                            "pressure: kernel-weighted fluid pressure at `point`; gauge: water "
+                                            "height on the vertical line through `point`; front: furthest fluid "
+                                            "particle from `point` along `direction`.")),
+      declare("point", &Probe::point, "m", std::monostate{}, unbounded_lower, unbounded_upper,
+              "Location [x, y] (2D) or [x, y, z] (3D)."),
+      declare("direction", &Probe::direction, "", Vec3{1.0, 0.0, 0.0}, unbounded_lower, unbounded_upper,
+              "Direction of a front probe."),
+      declare("band", &Probe::band, "m", 0.0, 0.0, 1e300,
+              "Half-width of a gauge's band of particles around its vertical line (in x, and in y in 3D); 0 = one "
+              "particle spacing."),
+      declare("interval", &Probe::interval, "s", 0.0, 0.0, 1e300, "Sampling interval; 0 = every step."),
+  };
+  return params;
+}
+
+std::vector<std::string> all_keys() {
+  std::vector<std::string> keys;
+  for (const auto& p : case_params()) keys.push_back(p.key);
+  for (const auto& p : region_params()) {
+    keys.push_back("water." + p.key);
+    keys.push_back("wall." + p.key);
+  }
+  for (const auto& p : probe_params()) keys.push_back("probe." + p.key);
+  return keys;
+}
+
+}  // namespace sluice

@@ -1,0 +1,43 @@
+// What colours the water: the fields a picture can show (their names, units and colour maps), and a
+// frame reduced to what is drawn of it.
+#pragma once
+
+#include <cstdint>
+#include <string_view>
+#include <vector>
+
+#include "sluice/io/frames.hpp"
+#include "sluice/render/colormap.hpp"
+
+namespace sluice::render {
+
+enum class Field { vx, vy, speed, pressure, density };
+
+struct FieldInfo {
+  Field field;
+  std::string_view name;   // as on the command line
+  std::string_view title;  // as drawn
+  std::string_view unit;   // the unit values are shown (and --range is given) in
+  double scale;            // SI value * scale = shown value
+  Colormap map;            // viridis for magnitudes, coolwarm for signed fields
+  bool is_signed;          // the default range is symmetric about zero
+};
+
+const FieldInfo& field_info(Field field);
+
+// RenderError naming the fields if `text` is none of them.
+Field parse_field(std::string_view text);
+
+// A frame reduced to what is drawn: positions, the field's value in its shown unit, and kind.
+struct FrameData {
+  double time = 0.0;
+  double dx = 0.0;
+  std::vector<float> x, y, value;
+  std::vector<std::uint8_t> kind;  // 0 fluid, 1 wall
+  [[nodiscard]] std::size_t size() const { return x.size(); }
+};
+
+// RenderError for a 3D frame.
+FrameData extract(const Frame& frame, Field field);
+
+}  // namespace sluice::render
