@@ -64,10 +64,14 @@ HWY_API double reduce_min(Pack a) { return hn::GetLane(hn::MinOfLanes(D(), a.v))
 
 HWY_API Pack load(const double* p) { return hn::LoadU(D(), p); }
 HWY_API void store(Pack a, double* p) { hn::StoreU(a.v, D(), p); }
-// The first n lanes from p, `fill` in the others (which are not read).
+// The first n <= lanes() values from p, `fill` in the other lanes; nothing past p + n is read. (Not
+// Highway's MaskedLoad: on SSE4 it reads the whole vector, with an aligned load.)
 HWY_API Pack load_first(std::size_t n, const double* p, double fill) {
-  const auto m = hn::FirstN(D(), n);
-  return hn::IfThenElse(m, hn::MaskedLoad(m, D(), p), hn::Set(D(), fill));
+  const D d;
+  if (n == hn::Lanes(d)) return hn::LoadU(d, p);
+  HWY_ALIGN double buffer[hn::MaxLanes(D())];
+  for (std::size_t k = 0; k < hn::Lanes(d); ++k) buffer[k] = k < n ? p[k] : fill;
+  return hn::Load(d, buffer);
 }
 HWY_API Mask first(std::size_t n) { return {hn::FirstN(D(), n)}; }
 // base[index[k]] for each lane k.

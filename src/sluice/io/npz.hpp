@@ -33,7 +33,6 @@ std::string make_npz(const std::vector<std::pair<std::string, NpyArray>>& arrays
 // Parses .npz bytes written by make_npz (stored entries). Throws FormatError naming what is wrong.
 std::map<std::string, NpyArray> parse_npz(const std::string& bytes);
 
-std::string npy_dtype_of_double();
 template <class T>
 std::string npy_dtype();
 

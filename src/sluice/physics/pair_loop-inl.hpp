@@ -75,11 +75,12 @@ HWY_INLINE void collect_neighbors(ForEachRange&& for_each_range, const std::arra
     if (end <= begin) return;
     list.reserve(count + (end - begin) + N);
     for (std::uint32_t j = begin; j < end; j += static_cast<std::uint32_t>(N)) {
-      const auto valid = hn::FirstN(d, std::min<std::size_t>(N, end - j));
+      const std::size_t lanes = std::min<std::size_t>(N, end - j);
+      const auto valid = hn::FirstN(d, lanes);
       std::array<hn::Vec<simd::D>, Dim> dx;
       auto r2 = hn::Zero(d);
       for (int k = 0; k < Dim; ++k) {
-        dx[k] = hn::Sub(hn::Set(d, xi[k]), hn::MaskedLoad(valid, d, x[k] + j));
+        dx[k] = hn::Sub(hn::Set(d, xi[k]), simd::load_first(lanes, x[k] + j, 0.0).v);
         r2 = k == 0 ? hn::Mul(dx[k], dx[k]) : hn::Add(r2, hn::Mul(dx[k], dx[k]));
       }
       const auto hit = hn::And(valid, hn::And(hn::Lt(r2, upper), hn::Gt(r2, lower)));

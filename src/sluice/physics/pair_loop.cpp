@@ -37,20 +37,31 @@ std::string upper(std::string_view s) {
 
 std::string simd_target() { return loops().target; }
 
+namespace {
+
+// The compiled targets the CPU runs, read once, before use_simd_target narrows what Highway reports.
+const std::vector<std::int64_t>& runnable_targets() {
+  static const std::vector<std::int64_t> targets = hwy::SupportedAndGeneratedTargets();
+  return targets;
+}
+
+}  // namespace
+
 std::vector<std::string> available_simd_targets() {
   std::vector<std::string> names;
-  for (const std::int64_t t : hwy::SupportedAndGeneratedTargets()) names.emplace_back(hwy::TargetName(t));
+  for (const std::int64_t t : runnable_targets()) names.emplace_back(hwy::TargetName(t));
   return names;
 }
 
 void use_simd_target(std::string_view name) {
   const std::string wanted = upper(name);
+  runnable_targets();
   if (wanted == "AUTO") {
     hwy::SetSupportedTargetsForTest(0);
     hwy::GetChosenTarget().Update(hwy::SupportedTargets());
     return;
   }
-  for (const std::int64_t t : hwy::SupportedAndGeneratedTargets()) {
+  for (const std::int64_t t : runnable_targets()) {
     if (upper(hwy::TargetName(t)) != wanted) continue;
     hwy::SetSupportedTargetsForTest(t);
     hwy::GetChosenTarget().Update(hwy::SupportedTargets());
