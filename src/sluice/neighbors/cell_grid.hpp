@@ -97,10 +97,18 @@ class CellGrid {
   [[nodiscard]] const std::vector<std::uint32_t>& cell_of() const { return cell_of_; }
   [[nodiscard]] const std::vector<std::uint32_t>& cell_start() const { return cell_start_; }
 
-  // Calls f(begin, end) for each contiguous range of (sorted) particle indices that covers the
-  // cells adjacent to cell `c` (including c).
-  template <class F>
-  void for_each_neighbor_range(std::uint32_t c, F&& f) const {
+  // Contiguous ranges [first, second) of (sorted) particle indices, as data: code compiled for
+  // another instruction set (the pair loop) loops over them itself instead of passing a callback.
+  template <std::size_t N>
+  struct RangeList {
+    std::array<std::pair<std::uint32_t, std::uint32_t>, N> range{};
+    int count = 0;
+    void add(std::uint32_t begin, std::uint32_t end) { range[count++] = {begin, end}; }
+  };
+  using NeighborRanges = RangeList<Dim == 1 ? 1 : (Dim == 2 ? 3 : 9)>;
+
+  // The ranges that cover the cells adjacent to cell `c` (including c): one per row of cells.
+  [[nodiscard]] NeighborRanges neighbor_ranges(std::uint32_t c) const {
     std::array<int, Dim> coord{};
     std::uint32_t rest = c;
     for (int d = 0; d < Dim; ++d) {
@@ -109,20 +117,29 @@ class CellGrid {
     }
     const int x_lo = std::max(coord[0] - 1, 0);
     const int x_hi = std::min(coord[0] + 1, count_[0] - 1);
+    NeighborRanges r;
     if constexpr (Dim == 1) {
-      f(cell_start_[x_lo], cell_start_[x_hi + 1]);
+      r.add(cell_start_[x_lo], cell_start_[x_hi + 1]);
     } else if constexpr (Dim == 2) {
       for (int y = std::max(coord[1] - 1, 0); y <= std::min(coord[1] + 1, count_[1] - 1); ++y) {
         const std::size_t row = static_cast<std::size_t>(y) * count_[0];
-        f(cell_start_[row + x_lo], cell_start_[row + x_hi + 1]);
+        r.add(cell_start_[row + x_lo], cell_start_[row + x_hi + 1]);
       }
     } else {
       for (int z = std::max(coord[2] - 1, 0); z <= std::min(coord[2] + 1, count_[2] - 1); ++z)
         for (int y = std::max(coord[1] - 1, 0); y <= std::min(coord[1] + 1, count_[1] - 1); ++y) {
           const std::size_t row = (static_cast<std::size_t>(z) * count_[1] + y) * count_[0];
-          f(cell_start_[row + x_lo], cell_start_[row + x_hi + 1]);
+          r.add(cell_start_[row + x_lo], cell_start_[row + x_hi + 1]);
         }
     }
+    return r;
+  }
+
+  // Calls f(begin, end) for each range of neighbor_ranges(c).
+  template <class F>
+  void for_each_neighbor_range(std::uint32_t c, F&& f) const {
+    const NeighborRanges r = neighbor_ranges(c);
+    for (int k = 0; k < r.count; ++k) f(r.range[k].first, r.range[k].second);
   }
 
   // Calls f(begin, end) for each contiguous range of (sorted) particle indices covering the cells
@@ -157,6 +174,14 @@ class CellGrid {
     std::uint32_t own_end = 0;
     std::array<std::pair<std::uint32_t, std::uint32_t>, Dim == 3 ? 4 : Dim - 1> other{};
     int others = 0;
+
+    // The forward ranges of particle i of the cell, as data.
+    [[nodiscard]] RangeList<(Dim == 3 ? 4 : Dim - 1) + 1> of(std::uint32_t i) const {
+      RangeList<(Dim == 3 ? 4 : Dim - 1) + 1> list;
+      list.add(i + 1, own_end);
+      for (int k = 0; k < others; ++k) list.add(other[k].first, other[k].second);
+      return list;
+    }
   };
 
   [[nodiscard]] ForwardRanges forward_ranges(std::uint32_t c) const {
@@ -186,8 +211,8 @@ class CellGrid {
   // Calls f(begin, end) for the forward ranges of particle i in cell c (see ForwardRanges).
   template <class F>
   static void for_each_forward_range(std::uint32_t i, const ForwardRanges& r, F&& f) {
-    f(i + 1, r.own_end);
-    for (int k = 0; k < r.others; ++k) f(r.other[k].first, r.other[k].second);
+    const auto list = r.of(i);
+    for (int k = 0; k < list.count; ++k) f(list.range[k].first, list.range[k].second);
   }
   template <class F>
   void for_each_forward_range(std::uint32_t i, std::uint32_t c, F&& f) const {

@@ -59,11 +59,17 @@ struct NeighborList {
   }
 };
 
+// f(begin, end) for each range of a CellGrid range list. (The loop is here, not a callback through
+// CellGrid, which is compiled for the baseline instruction set and could not inline this target's f.)
+template <class Ranges, class F>
+HWY_INLINE void for_each_range(const Ranges& ranges, F&& f) {
+  for (int k = 0; k < ranges.count; ++k) f(ranges.range[k].first, ranges.range[k].second);
+}
+
 // Collects the neighbours j of particle i (at xi) with min_r2 < r^2 < support2 among the candidate
-// ranges that `for_each_range(f)` passes to f(begin, end); candidates of a range are consecutive
-// indices, loaded a vector at a time.
-template <int Dim, class ForEachRange>
-HWY_INLINE void collect_neighbors(ForEachRange&& for_each_range, const std::array<double, Dim>& xi,
+// ranges; candidates of a range are consecutive indices, loaded a vector at a time.
+template <int Dim, class Ranges>
+HWY_INLINE void collect_neighbors(const Ranges& ranges, const std::array<double, Dim>& xi,
                                   const std::array<const double*, Dim>& x, double support2, double min_r2,
                                   NeighborList<Dim>& list) {
   const simd::D d;
@@ -71,7 +77,7 @@ HWY_INLINE void collect_neighbors(ForEachRange&& for_each_range, const std::arra
   const std::size_t N = hn::Lanes(d);
   const auto upper = hn::Set(d, support2), lower = hn::Set(d, min_r2);
   std::size_t count = 0;
-  for_each_range([&](std::uint32_t begin, std::uint32_t end) {
+  for_each_range(ranges, [&](std::uint32_t begin, std::uint32_t end) {
     if (end <= begin) return;
     list.reserve(count + (end - begin) + N);
     for (std::uint32_t j = begin; j < end; j += static_cast<std::uint32_t>(N)) {
@@ -242,10 +248,10 @@ RateSummary rate_loop(Particles<Dim>& p, const CellGrid<Dim>& grid, const RateSe
           if (cell_begin == cell_end) continue;
           const auto ranges = grid.forward_ranges(cell);
           for (std::uint32_t i = cell_begin; i < cell_end; ++i) {
-            const auto forward = [&](auto&& f) { CellGrid<Dim>::for_each_forward_range(i, ranges, f); };
+            const auto forward = ranges.of(i);
             if (fluid[i] == 0.0) {
               bool near_fluid = false;
-              forward([&](std::uint32_t begin, std::uint32_t end) {
+              for_each_range(forward, [&](std::uint32_t begin, std::uint32_t end) {
                 near_fluid = near_fluid || (end > begin && fluid_before[end] > fluid_before[begin]);
               });
               if (!near_fluid) continue;
@@ -283,7 +289,7 @@ void shepard_loop(Particles<Dim>& p, const CellGrid<Dim>& grid, double h, double
     for (int d = 0; d < Dim; ++d) xi[d] = p.position[d][i];
     const double outside = p.position[0][i] + 2.0 * Kernel::support * h;
     Pack mass_sum = 0.0, volume_sum = 0.0;
-    grid.for_each_neighbor_range(cell_of[i], [&](std::uint32_t begin, std::uint32_t end) {
+    for_each_range(grid.neighbor_ranges(cell_of[i]), [&](std::uint32_t begin, std::uint32_t end) {
       for (std::uint32_t j = begin; j < end; j += static_cast<std::uint32_t>(N)) {
         const std::size_t lanes = std::min<std::size_t>(N, end - j);
         Pack r2 = 0.0;
