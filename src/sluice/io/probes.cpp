@@ -28,7 +28,7 @@ std::vector<double> pressure_at(const Probe& probe, const Solver<Dim>& solver) {
       [&](const auto& kernel) -> std::vector<double> {
         const double support = std::decay_t<decltype(kernel)>::support * kernel.h;
         double weighted = 0.0, weight = 0.0;
-        int neighbours = 0;
+        std::int64_t neighbours = 0;
         Vec<Dim> lower = at, upper = at;
         for (int d = 0; d < Dim; ++d) lower[d] -= support, upper[d] += support;
         solver.for_each_range_in_box(lower, upper, [&](std::uint32_t begin, std::uint32_t end) {
@@ -46,7 +46,10 @@ std::vector<double> pressure_at(const Probe& probe, const Solver<Dim>& solver) {
             ++neighbours;
           }
         });
-        return {weight > 0.0 ? weighted / weight : 0.0, static_cast<double>(neighbours)};
+        const Reducer& all = solver.reducer();
+        weighted = all.sum(weighted);
+        weight = all.sum(weight);
+        return {weight > 0.0 ? weighted / weight : 0.0, static_cast<double>(all.sum(neighbours))};
       },
       solver.kernel());
 }
@@ -64,7 +67,7 @@ std::vector<double> gauge_height(const Probe& probe, const Solver<Dim>& solver) 
   }
   lower[up] = -std::numeric_limits<double>::infinity();  // the whole column (clamped to the grid)
   upper[up] = std::numeric_limits<double>::infinity();
-  double top = std::numeric_limits<double>::quiet_NaN();
+  double top = -std::numeric_limits<double>::infinity();
   solver.for_each_range_in_box(lower, upper, [&](std::uint32_t begin, std::uint32_t end) {
     for (std::uint32_t i = begin; i < end; ++i) {
       if (!p.is_fluid(i)) continue;
@@ -72,10 +75,11 @@ std::vector<double> gauge_height(const Probe& probe, const Solver<Dim>& solver) 
       for (int d = 0; d < up; ++d) inside = inside && std::abs(p.position[d][i] - probe.point[d]) <= band;
       if (!inside) continue;
       const double y = p.position[up][i] + 0.5 * dx;
-      if (!(top >= y)) top = y;
+      top = std::max(top, y);
     }
   });
-  return {std::isnan(top) ? 0.0 : top};
+  top = solver.reducer().max(top);
+  return {std::isinf(top) ? 0.0 : top};
 }
 
 // The furthest fluid particle along the direction; of several equally far, the one of lowest index.
@@ -86,7 +90,7 @@ std::vector<double> front_position(const Probe& probe, const Solver<Dim>& solver
   const Vec<Dim> dir = (1.0 / norm(first<Dim>(probe.direction))) * first<Dim>(probe.direction);
   double best = -std::numeric_limits<double>::infinity();
   Vec<Dim> at{};
-  for (std::size_t i = 0; i < p.size(); ++i) {
+  for (std::size_t i = 0; i < p.owned(); ++i) {
     if (!p.is_fluid(i)) continue;
     Vec<Dim> x{};
     for (int d = 0; d < Dim; ++d) x[d] = p.position[d][i];
@@ -98,7 +102,7 @@ std::vector<double> front_position(const Probe& probe, const Solver<Dim>& solver
   }
   std::vector<double> out{best};
   out.insert(out.end(), at.begin(), at.end());
-  return out;
+  return solver.reducer().payload_of_max(best, out);
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 
 #include "sluice/case/case.hpp"
 #include "sluice/core/particles.hpp"
+#include "sluice/core/reduce.hpp"
 #include "sluice/geometry/solid.hpp"
 #include "sluice/neighbors/cell_grid.hpp"
 #include "sluice/physics/kernel.hpp"
@@ -86,6 +87,8 @@ class Solver {
     return case_.integrator == Integrator::predictor_corrector ? 2 : 1;
   }
   [[nodiscard]] int threads() const { return threads_; }
+  // Combines the sums and maxima of this process's particles with those of the others.
+  [[nodiscard]] const Reducer& reducer() const { return *reducer_; }
   [[nodiscard]] Diagnostics diagnostics() const;
 
   // Calls f(begin, end) for ranges of particle indices, in increasing order, that hold every particle
@@ -118,6 +121,8 @@ class Solver {
   // Rebuilds the neighbour grid (reordering the particles by cell), applies the Shepard filter when
   // due and any pending density repairs, and computes the rates.
   RateSummary evaluate(bool shepard_due, bool mid_step);
+  // This process's maxima and minimum combined with the other processes' (reducer()).
+  RateSummary global(const RateSummary& r) const;
   double choose_dt(const RateSummary& r) const;
 
   Case case_;
@@ -135,6 +140,7 @@ class Solver {
   Clock saved_clock_;
   bool has_saved_state_ = false;
   int threads_ = 1;
+  const Reducer* reducer_ = &serial_reducer();
   std::size_t removed_near_coincident_ = 0;
 };
 

@@ -89,6 +89,12 @@ RateSummary Solver<Dim>::evaluate(bool shepard_due, bool mid_step) {
 }
 
 template <int Dim>
+RateSummary Solver<Dim>::global(const RateSummary& r) const {
+  return {reducer_->max(r.max_acceleration), reducer_->max(r.max_relative_speed), reducer_->max(r.max_density),
+          reducer_->min(r.min_fluid_distance)};
+}
+
+template <int Dim>
 double Solver<Dim>::choose_dt(const RateSummary& r) const {
   if (case_.fixed_dt > 0.0) return case_.fixed_dt;
   const double h = settings_.h;
@@ -104,7 +110,7 @@ template <int Dim>
 void Solver<Dim>::step(double time_limit) {
   const bool shepard_due = case_.shepard_every > 0 && clock_.step > 0 && clock_.step % case_.shepard_every == 0;
   has_saved_state_ = false;
-  const RateSummary rates = evaluate(shepard_due, false);
+  const RateSummary rates = global(evaluate(shepard_due, false));
   min_particle_distance_ = rates.min_fluid_distance;
   saved_clock_ = clock_;
   double dt = choose_dt(rates);
@@ -143,28 +149,38 @@ Diagnostics Solver<Dim>::diagnostics() const {
   d.max_density = -std::numeric_limits<double>::infinity();
   const double m = settings_.mass;
   const Particles<Dim>& p = particles_;
-  for (std::size_t i = 0; i < p.size(); ++i) {
+  std::int64_t fluid = 0, wall = 0, not_finite = 0;
+  for (std::size_t i = 0; i < p.owned(); ++i) {
     const double rho = p.density[i];
     d.min_density = std::min(d.min_density, rho);
     d.max_density = std::max(d.max_density, rho);
     bool finite = std::isfinite(rho);
     if (!p.is_fluid(i)) {
-      ++d.wall_particles;
-      d.all_finite = d.all_finite && finite;
+      ++wall;
+      not_finite += !finite;
       continue;
     }
-    ++d.fluid_particles;
+    ++fluid;
     double v2 = 0.0, g_dot_x = 0.0;
     for (int k = 0; k < Dim; ++k) {
       v2 += p.velocity[k][i] * p.velocity[k][i];
       g_dot_x += settings_.gravity[k] * p.position[k][i];
       finite = finite && std::isfinite(p.position[k][i]) && std::isfinite(p.velocity[k][i]);
     }
-    d.all_finite = d.all_finite && finite;
+    not_finite += !finite;
     d.max_speed = std::max(d.max_speed, std::sqrt(v2));
     d.kinetic_energy += 0.5 * m * v2;
     d.potential_energy -= m * g_dot_x;
   }
+  const Reducer& all = *reducer_;
+  d.fluid_particles = static_cast<std::size_t>(all.sum(fluid));
+  d.wall_particles = static_cast<std::size_t>(all.sum(wall));
+  d.all_finite = all.sum(not_finite) == 0;
+  d.min_density = all.min(d.min_density);
+  d.max_density = all.max(d.max_density);
+  d.max_speed = all.max(d.max_speed);
+  d.kinetic_energy = all.sum(d.kinetic_energy);
+  d.potential_energy = all.sum(d.potential_energy);
   d.total_mass = m * static_cast<double>(d.fluid_particles);
   d.min_particle_distance = min_particle_distance_;
   return d;
@@ -189,14 +205,15 @@ Health Solver<Dim>::check_health(std::size_t max_reported) const {
     if (!(rho > 0.5 * rho0 && rho < 2.0 * rho0)) return "density outside (0.5, 2) rho0";
     return nullptr;
   };
-  const long n = static_cast<long>(p.size());
-  const long bad =
-      parallel::count<long>(n, threads_, [&](long i) -> long { return problem(static_cast<std::size_t>(i)) != nullptr; });
+  const long n = static_cast<long>(p.owned());
+  const std::int64_t bad = reducer_->sum(parallel::count<std::int64_t>(
+      n, threads_, [&](long i) -> std::int64_t { return problem(static_cast<std::size_t>(i)) != nullptr; }));
   Health health;
   health.offending = static_cast<std::size_t>(bad);
   if (bad == 0) return health;
+  // The offenders described are this process's (the count is everyone's).
   std::vector<std::size_t> rows;
-  for (std::size_t i = 0; i < p.size(); ++i)
+  for (std::size_t i = 0; i < p.owned(); ++i)
     if (problem(i) != nullptr) rows.push_back(i);
   std::sort(rows.begin(), rows.end(), [&](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
   const double support2 = 4.0 * settings_.h * settings_.h;
