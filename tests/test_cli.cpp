@@ -141,7 +141,8 @@ TEST_F(Cli, Help) {
 TEST_F(Cli, Version) {
   const Result r = sluice({"--version"});
   EXPECT_EQ(r.status, 0);
-  EXPECT_TRUE(std::regex_match(r.out, std::regex(R"(sluice \d+\.\d+\.\d+\n)"))) << r.out;
+  EXPECT_TRUE(std::regex_match(r.out, std::regex(R"(sluice \d+\.\d+\.\d+\npair loop: \w+ \(this CPU runs [\w, ]+\)\n)")))
+      << r.out;
 }
 
 TEST_F(Cli, RunHelp) {

@@ -12,6 +12,7 @@
 #include "sluice/app/commands.hpp"
 #include "sluice/case/case_error.hpp"
 #include "sluice/case/suggest.hpp"
+#include "sluice/physics/simd_target.hpp"
 
 using namespace sluice;
 
@@ -80,7 +81,11 @@ int main(int argc, char** argv) {
   // instead of the process being killed by SIGXFSZ.
   std::signal(SIGXFSZ, SIG_IGN);
   CLI::App cli{"sluice: a fast, validated SPH solver for free-surface water flows (dam breaks, sloshing, waves)."};
-  cli.set_version_flag("--version", std::string("sluice ") + SLUICE_VERSION);
+  cli.set_version_flag("--version", [] {
+    std::string targets;
+    for (const auto& t : available_simd_targets()) targets += (targets.empty() ? "" : ", ") + t;
+    return std::string("sluice ") + SLUICE_VERSION + "\npair loop: " + simd_target() + " (this CPU runs " + targets + ")";
+  });
   cli.require_subcommand(1);
   cli.footer("Run `sluice <command> --help` for a command's options. With no case, `sluice run` runs the default dam break.");
 

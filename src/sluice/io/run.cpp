@@ -13,6 +13,7 @@
 #include "sluice/io/checkpoint.hpp"
 #include "sluice/io/frames.hpp"
 #include "sluice/io/probes.hpp"
+#include "sluice/physics/simd_target.hpp"
 
 namespace sluice {
 
@@ -441,6 +442,7 @@ std::string format_summary(const RunResult& r) {
   s += fmt::format("  speed       {:.2f} M particle-steps/s, {:.2f} M particle-evaluations/s\n",
                    r.particle_steps_per_second * 1e-6,
                    r.particle_steps_per_second * r.force_evaluations_per_step * 1e-6);
+  s += fmt::format("  pair loop   {} (the instruction set it ran on)\n", simd_target());
   s += fmt::format("  leaks       {} (fluid particles put back from inside a wall)\n", d.leaks);
   s += fmt::format("  density     min {:.2f}, max {:.2f} kg/m^3 (rho0 = {})\n", d.min_density, d.max_density,
                    r.rest_density);
