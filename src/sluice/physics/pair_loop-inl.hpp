@@ -188,27 +188,9 @@ HWY_INLINE void add_gravity(Particles<Dim>& p, const Vec<Dim>& g, const double* 
 template <int Dim, class Kernel, class Walls, bool WithArtificialPressure>
 RateSummary rate_loop(Particles<Dim>& p, const CellGrid<Dim>& grid, const RateSettings<Dim>& s,
                       const ParticleTerms& t, int threads) {
-  const Kernel kernel(s.h);
   const double support2 = Kernel::support * Kernel::support * s.h * s.h;
   const double min_r2 = 1e-18 * s.h * s.h;  // excludes i = j (and exactly coincident points)
-  WcsphPair<Dim, Kernel, Walls, WithArtificialPressure> pair{kernel};
-  pair.m = s.mass;
-  pair.c0 = s.eos.sound_speed;
-  pair.h = s.h;
-  pair.mu = s.viscosity;
-  pair.alpha = s.alpha;
-  pair.delta_h_c0 = s.delta * s.h * s.eos.sound_speed;
-  for (int d = 0; d < Dim; ++d) pair.g[d] = s.gravity[d];
-  pair.inv_w_dx = WithArtificialPressure ? 1.0 / kernel.value(s.spacing) : 0.0;
-  pair.ap_n = s.artificial_pressure_exponent;
-  pair.far_r2 = support2;
-  for (int d = 0; d < Dim; ++d) pair.v[d] = p.velocity[d].data();
-  pair.rho = p.density.data();
-  pair.inv_rho = t.inv_rho.data();
-  pair.p_over_rho2 = t.p_over_rho2.data();
-  pair.hydro_k = t.hydro_k.data();
-  pair.fluid = t.fluid_mask.data();
-  pair.tension = t.tension.data();
+  const auto pair = WcsphPair<Dim, Kernel, Walls, WithArtificialPressure>::of(p, s, t);
   const double outside = 1.5 * Kernel::support * s.h;
 
   const long n = static_cast<long>(p.size());

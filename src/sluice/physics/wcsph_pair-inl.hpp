@@ -40,6 +40,30 @@ struct WcsphPair {
   const double *rho = nullptr, *inv_rho = nullptr, *p_over_rho2 = nullptr, *hydro_k = nullptr, *fluid = nullptr,
                *tension = nullptr;
 
+  // The interaction of the run's settings over the particles' fields.
+  static WcsphPair of(const Particles<Dim>& p, const RateSettings<Dim>& s, const ParticleTerms& t) {
+    const Kernel kernel(s.h);
+    WcsphPair pair{kernel};
+    pair.m = s.mass;
+    pair.c0 = s.eos.sound_speed;
+    pair.h = s.h;
+    pair.mu = s.viscosity;
+    pair.alpha = s.alpha;
+    pair.delta_h_c0 = s.delta * s.h * s.eos.sound_speed;
+    for (int d = 0; d < Dim; ++d) pair.g[d] = s.gravity[d];
+    pair.inv_w_dx = WithArtificialPressure ? 1.0 / kernel.value(s.spacing) : 0.0;
+    pair.ap_n = s.artificial_pressure_exponent;
+    pair.far_r2 = Kernel::support * Kernel::support * s.h * s.h;
+    for (int d = 0; d < Dim; ++d) pair.v[d] = p.velocity[d].data();
+    pair.rho = p.density.data();
+    pair.inv_rho = t.inv_rho.data();
+    pair.p_over_rho2 = t.p_over_rho2.data();
+    pair.hydro_k = t.hydro_k.data();
+    pair.fluid = t.fluid_mask.data();
+    pair.tension = t.tension.data();
+    return pair;
+  }
+
   // One side of a pair, each field read by `load(array)`: a broadcast of particle i, or a gather of
   // the neighbours j.
   template <class T, class Load>
