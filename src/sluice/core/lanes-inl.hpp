@@ -64,13 +64,27 @@ HWY_API double reduce_min(Pack a) { return hn::GetLane(hn::MinOfLanes(D(), a.v))
 
 HWY_API Pack load(const double* p) { return hn::LoadU(D(), p); }
 HWY_API void store(Pack a, double* p) { hn::StoreU(a.v, D(), p); }
-// The first n <= lanes() values from p, `fill` in the other lanes; nothing past p + n is read. (Not
-// Highway's MaskedLoad: on SSE4 it reads the whole vector, with an aligned load.)
-HWY_API Pack load_first(std::size_t n, const double* p, double fill) {
+// base[j], ..., base[j + n - 1] (n <= lanes()), `fill` in the other lanes, from an array of `size`
+// values: a whole-vector load where the vector lies inside the array (the lanes past n are replaced),
+// otherwise, at the array's end, through a buffer. (Not Highway's MaskedLoad, which on SSE4 reads the
+// whole vector and which GCC 12 compiled on AVX2 for a known n into stores and a reload of the
+// stack: a stall of every partial vector.)
+HWY_API Pack load_within(const double* base, std::size_t j, std::size_t n, std::size_t size, double fill) {
   const D d;
-  if (n == hn::Lanes(d)) return hn::LoadU(d, p);
+  if (j + hn::Lanes(d) <= size) {
+    const auto v = hn::LoadU(d, base + j);
+    return n == hn::Lanes(d) ? v : hn::IfThenElse(hn::FirstN(d, n), v, hn::Set(d, fill));
+  }
   HWY_ALIGN double buffer[hn::MaxLanes(D())];
-  for (std::size_t k = 0; k < hn::Lanes(d); ++k) buffer[k] = k < n ? p[k] : fill;
+  for (std::size_t k = 0; k < hn::Lanes(d); ++k) buffer[k] = k < n ? base[j + k] : fill;
+  return hn::Load(d, buffer);
+}
+// The whole vector base[j], ... from an array of `size` values; lanes past its end are 0.
+HWY_API Pack load_at(const double* base, std::size_t j, std::size_t size) {
+  const D d;
+  if (j + hn::Lanes(d) <= size) return hn::LoadU(d, base + j);
+  HWY_ALIGN double buffer[hn::MaxLanes(D())];
+  for (std::size_t k = 0; k < hn::Lanes(d); ++k) buffer[k] = j + k < size ? base[j + k] : 0.0;
   return hn::Load(d, buffer);
 }
 HWY_API Mask first(std::size_t n) { return {hn::FirstN(D(), n)}; }

@@ -44,21 +44,6 @@ using simd::Pack;
 #include "sluice/physics/pair_terms-inl.hpp"
 #include "sluice/physics/wcsph_pair-inl.hpp"
 
-// The neighbours of one particle: indices j and separations x_i - x_j, read contiguously by the pair
-// loop. Room is kept for a whole vector past the end (compressed stores write whole vectors).
-template <int Dim>
-struct NeighborList {
-  std::vector<std::int64_t> index;
-  std::array<std::vector<double>, Dim> separation;
-  std::size_t count = 0;
-
-  void reserve(std::size_t n) {
-    if (index.size() >= n) return;
-    index.resize(2 * n);
-    for (auto& s : separation) s.resize(2 * n);
-  }
-};
-
 // f(begin, end) for each range of a CellGrid range list. (The loop is here, not a callback through
 // CellGrid, which is compiled for the baseline instruction set and could not inline this target's f.)
 template <class Ranges, class F>
@@ -66,102 +51,117 @@ HWY_INLINE void for_each_range(const Ranges& ranges, F&& f) {
   for (int k = 0; k < ranges.count; ++k) f(ranges.range[k].first, ranges.range[k].second);
 }
 
-// Collects the neighbours j of particle i (at xi) with min_r2 < r^2 < support2 among the candidate
-// ranges; candidates of a range are consecutive indices, loaded a vector at a time.
-template <int Dim, class Ranges>
-HWY_INLINE void collect_neighbors(const Ranges& ranges, const std::array<double, Dim>& xi,
-                                  const std::array<const double*, Dim>& x, double support2, double min_r2,
-                                  NeighborList<Dim>& list) {
-  const simd::D d;
-  const simd::DI di;
-  const std::size_t N = hn::Lanes(d);
-  const auto upper = hn::Set(d, support2), lower = hn::Set(d, min_r2);
-  std::size_t count = 0;
-  for_each_range(ranges, [&](std::uint32_t begin, std::uint32_t end) {
-    if (end <= begin) return;
-    list.reserve(count + (end - begin) + N);
-    for (std::uint32_t j = begin; j < end; j += static_cast<std::uint32_t>(N)) {
-      const std::size_t lanes = std::min<std::size_t>(N, end - j);
-      const auto valid = hn::FirstN(d, lanes);
-      std::array<hn::Vec<simd::D>, Dim> dx;
-      auto r2 = hn::Zero(d);
-      for (int k = 0; k < Dim; ++k) {
-        dx[k] = hn::Sub(hn::Set(d, xi[k]), simd::load_first(lanes, x[k] + j, 0.0).v);
-        r2 = k == 0 ? hn::Mul(dx[k], dx[k]) : hn::Add(r2, hn::Mul(dx[k], dx[k]));
-      }
-      const auto hit = hn::And(valid, hn::And(hn::Lt(r2, upper), hn::Gt(r2, lower)));
-      for (int k = 0; k < Dim; ++k) hn::StoreU(simd::compress(d, dx[k], hit), d, list.separation[k].data() + count);
-      hn::StoreU(simd::compress(di, hn::Iota(di, j), hn::RebindMask(di, hit)), di, list.index.data() + count);
-      count += hn::CountTrue(d, hit);
-    }
-  });
-  list.count = count;
-}
-
-// Per-thread scratch of the pair loop: the neighbour list and the contributions to the neighbours.
+// The candidates of one cell and what its particles give them. Every particle i of a cell has the
+// same forward candidates, except that in its own cell only those after i count: the ranges
+// [cell_begin, own_end) and the cell's other forward ranges (CellGrid::ForwardRanges). Their
+// contributions are summed here, each candidate at a fixed place of the block, and added to the
+// particles once, when the cell is done: the neighbours' sums stay in the first-level cache, no two
+// threads ever write the same place (the block is the thread's own), and consecutive particles of
+// the cell write the same vectors at the same addresses (each range starts a whole vector).
 template <int Dim>
-struct PairScratch {
-  NeighborList<Dim> neighbors;
+struct CellBlock {
+  static constexpr int kMaxRanges = (Dim == 3 ? 4 : Dim - 1) + 1;
+  std::array<std::uint32_t, kMaxRanges> begin{}, end{}, offset{};
+  int ranges = 0;
   std::array<std::vector<double>, Dim> to_j;
   std::vector<double> to_j_rho;
 
-  void reserve(std::size_t n) {
-    neighbors.reserve(n);
-    if (to_j_rho.size() >= n) return;
-    for (auto& b : to_j) b.resize(2 * n);
-    to_j_rho.resize(2 * n);
+  // Sets the block to the cell's candidates, with nothing given to them yet.
+  template <class Forward>
+  void start(std::uint32_t cell_begin, const Forward& forward) {
+    const std::size_t N = simd::lanes();
+    ranges = 0;
+    std::size_t size = 0;
+    const auto add = [&](std::uint32_t b, std::uint32_t e) {
+      if (e <= b) return;
+      begin[ranges] = b;
+      end[ranges] = e;
+      offset[ranges++] = static_cast<std::uint32_t>(size);
+      size += (e - b + N - 1) / N * N;
+    };
+    add(cell_begin, forward.own_end);
+    for (int k = 0; k < forward.others; ++k) add(forward.other[k].first, forward.other[k].second);
+    if (to_j_rho.size() < size) {
+      for (auto& b : to_j) b.resize(2 * size);
+      to_j_rho.resize(2 * size);
+    }
+    for (auto& b : to_j) std::fill_n(b.begin(), size, 0.0);
+    std::fill_n(to_j_rho.begin(), size, 0.0);
+  }
+
+  // Adds what the cell's particles gave its candidates to their rates.
+  void finish(const std::array<double*, Dim>& acc, double* density_rate) const {
+    for (int k = 0; k < ranges; ++k) {
+      const std::uint32_t b = begin[k], n = end[k] - b, o = offset[k];
+      for (int d = 0; d < Dim; ++d) {
+        double* __restrict a = acc[d] + b;
+        const double* __restrict t = to_j[d].data() + o;
+        for (std::uint32_t q = 0; q < n; ++q) a[q] += t[q];
+      }
+      double* __restrict r = density_rate + b;
+      const double* __restrict t = to_j_rho.data() + o;
+      for (std::uint32_t q = 0; q < n; ++q) r[q] += t[q];
+    }
   }
 };
 
-// Pads the list to whole vectors with entries j = i placed outside the support, whose terms are
-// exactly zero.
-template <int Dim>
-HWY_INLINE std::size_t pad_to_vectors(NeighborList<Dim>& list, std::uint32_t i, double outside) {
-  const std::size_t N = simd::lanes();
-  const std::size_t padded = (list.count + N - 1) / N * N;
-  for (std::size_t k = list.count; k < padded; ++k) {
-    list.index[k] = i;
-    list.separation[0][k] = outside;
-    for (int d = 1; d < Dim; ++d) list.separation[d][k] = 0.0;
-  }
-  return padded;
-}
-
-// The pairs of i with its listed neighbours: adds i's sums and the j's contributions to the rates.
-// Returns the pair maxima (speed2, and the smallest fluid_r2) through `speed2_max` and `r2_min`.
+// The pairs of particle i (in the block's cell, at xi) with the block's candidates: a vector of
+// consecutive candidates at a time, loaded contiguously. Lanes outside the support, at or before i in
+// its own cell, past a range's end, or coincident with i contribute exactly nothing (their results
+// are replaced by zeros); vectors without a neighbour are skipped after the distance test. Adds i's
+// sums to its rates and the candidates' shares to the block; returns the pair maxima (speed2, and the
+// smallest fluid_r2) through `speed2_max` and `r2_min`.
 template <int Dim, class Pair>
-HWY_INLINE void evaluate_pairs(const Pair& pair, std::uint32_t i, PairScratch<Dim>& s, std::size_t padded,
-                               const std::array<double*, Dim>& acc, double* density_rate, double& speed2_max,
-                               double& r2_min) {
-  const simd::DI di;
-  const std::size_t N = simd::lanes();
+HWY_INLINE void evaluate_pairs(const Pair& shared_pair, std::uint32_t i, const std::array<double, Dim>& xi,
+                               const std::array<const double*, Dim>& x, std::size_t size, double support2,
+                               double min_r2, CellBlock<Dim>& block, const std::array<double*, Dim>& acc,
+                               double* density_rate, double& speed2_max, double& r2_min) {
+  // A copy of its own: the compiler then knows that the stores below do not change the constants of
+  // the pair, and keeps them and their products out of the loop.
+  const Pair pair = shared_pair;
+  const simd::D d;
+  const std::size_t N = hn::Lanes(d);
+  const auto upper = hn::Set(d, support2), lower = hn::Set(d, min_r2);
   const auto si = pair.template side<Pack>([&](const double* a) { return Pack(a[i]); });
   std::array<Pack, Dim> sum;
   sum.fill(0.0);
   Pack drho = 0.0, vmax = 0.0, rmin = pair.far_r2;
-  const NeighborList<Dim>& list = s.neighbors;
-  for (std::size_t k = 0; k < padded; k += N) {
-    const auto index = hn::LoadU(di, list.index.data() + k);
-    std::array<Pack, Dim> r_ij;
-    for (int d = 0; d < Dim; ++d) r_ij[d] = simd::load(list.separation[d].data() + k);
-    const auto sj = pair.template side<Pack>([&](const double* a) { return simd::gather(a, index); });
-    const auto out = pair(si, sj, r_ij);
-    for (int d = 0; d < Dim; ++d) {
-      sum[d] += out.force[d];
-      simd::store(-out.force[d], s.to_j[d].data() + k);
+  for (int k = 0; k < block.ranges; ++k) {
+    const std::uint32_t b = block.begin[k], e = block.end[k];
+    // In i's own cell (the first range), from the whole vector that holds i + 1.
+    std::uint32_t j = b;
+    if (k == 0) {
+      if (i + 1 >= e) continue;
+      j = b + (i + 1 - b) / static_cast<std::uint32_t>(N) * static_cast<std::uint32_t>(N);
     }
-    drho += out.drho_i;
-    simd::store(out.drho_j, s.to_j_rho.data() + k);
-    vmax = simd::max(vmax, out.speed2);
-    rmin = simd::min(rmin, out.fluid_r2);
+    for (; j < e; j += static_cast<std::uint32_t>(N)) {
+      const std::size_t skip = (k == 0 && j <= i) ? i + 1 - j : 0;
+      const auto valid = hn::AndNot(hn::FirstN(d, skip), hn::FirstN(d, std::min<std::size_t>(N, e - j)));
+      std::array<Pack, Dim> r_ij;
+      auto r2 = hn::Zero(d);
+      for (int c = 0; c < Dim; ++c) {
+        r_ij[c] = Pack(xi[c]) - simd::load_at(x[c], j, size);
+        r2 = hn::MulAdd(r_ij[c].v, r_ij[c].v, r2);
+      }
+      const simd::Mask hit{hn::And(valid, hn::And(hn::Lt(r2, upper), hn::Gt(r2, lower)))};
+      if (hn::AllFalse(d, hit.m)) continue;
+      const auto sj = pair.template side<Pack>([&](const double* a) { return simd::load_at(a, j, size); });
+      const auto out = pair(si, sj, r_ij);
+      const std::size_t at = block.offset[k] + (j - b);
+      for (int c = 0; c < Dim; ++c) {
+        const Pack f = simd::select(hit, out.force[c], 0.0);
+        sum[c] += f;
+        double* to = block.to_j[c].data() + at;
+        simd::store(simd::load(to) - f, to);
+      }
+      drho += simd::select(hit, out.drho_i, 0.0);
+      double* to = block.to_j_rho.data() + at;
+      simd::store(simd::load(to) + simd::select(hit, out.drho_j, 0.0), to);
+      vmax = simd::max(vmax, simd::select(hit, out.speed2, 0.0));
+      rmin = simd::min(rmin, simd::select(hit, out.fluid_r2, pair.far_r2));
+    }
   }
-  // No two entries of the list are the same particle, and none is i.
-  for (std::size_t k = 0; k < list.count; ++k) {
-    const auto j = static_cast<std::size_t>(list.index[k]);
-    for (int d = 0; d < Dim; ++d) acc[d][j] += s.to_j[d][k];
-    density_rate[j] += s.to_j_rho[k];
-  }
-  for (int d = 0; d < Dim; ++d) acc[d][i] += simd::reduce_add(sum[d]);
+  for (int c = 0; c < Dim; ++c) acc[c][i] += simd::reduce_add(sum[c]);
   density_rate[i] += simd::reduce_add(drho);
   speed2_max = std::max(speed2_max, simd::reduce_max(vmax));
   r2_min = std::min(r2_min, simd::reduce_min(rmin));
@@ -191,7 +191,6 @@ RateSummary rate_loop(Particles<Dim>& p, const CellGrid<Dim>& grid, const RateSe
   const double support2 = Kernel::support * Kernel::support * s.h * s.h;
   const double min_r2 = 1e-18 * s.h * s.h;  // excludes i = j (and exactly coincident points)
   const auto pair = WcsphPair<Dim, Kernel, Walls, WithArtificialPressure>::of(p, s, t);
-  const double outside = 1.5 * Kernel::support * s.h;
 
   const long n = static_cast<long>(p.size());
   std::array<const double*, Dim> x{};
@@ -219,8 +218,7 @@ RateSummary rate_loop(Particles<Dim>& p, const CellGrid<Dim>& grid, const RateSe
       for (int d = 0; d < Dim; ++d) acc[d][i] = 0.0;
       density_rate[i] = 0.0;
     }
-    PairScratch<Dim> scratch;
-    scratch.reserve(512);
+    CellBlock<Dim> block;
     for (long parity = 0; parity < 2; ++parity) {
 #pragma omp for schedule(dynamic, 1) reduction(max : max_speed2) reduction(min : closest2)
       for (long band = parity; band < bands; band += 2) {
@@ -229,23 +227,21 @@ RateSummary rate_loop(Particles<Dim>& p, const CellGrid<Dim>& grid, const RateSe
           const std::uint32_t cell_begin = cell_start[cell], cell_end = cell_start[cell + 1];
           if (cell_begin == cell_end) continue;
           const auto ranges = grid.forward_ranges(cell);
+          block.start(cell_begin, ranges);
           for (std::uint32_t i = cell_begin; i < cell_end; ++i) {
-            const auto forward = ranges.of(i);
             if (fluid[i] == 0.0) {
               bool near_fluid = false;
-              for_each_range(forward, [&](std::uint32_t begin, std::uint32_t end) {
+              for_each_range(ranges.of(i), [&](std::uint32_t begin, std::uint32_t end) {
                 near_fluid = near_fluid || (end > begin && fluid_before[end] > fluid_before[begin]);
               });
               if (!near_fluid) continue;
             }
             std::array<double, Dim> xi{};
             for (int d = 0; d < Dim; ++d) xi[d] = x[d][i];
-            collect_neighbors<Dim>(forward, xi, x, support2, min_r2, scratch.neighbors);
-            if (scratch.neighbors.count == 0) continue;
-            scratch.reserve(scratch.neighbors.count + simd::lanes());
-            const std::size_t padded = pad_to_vectors(scratch.neighbors, i, outside);
-            evaluate_pairs<Dim>(pair, i, scratch, padded, acc, density_rate, max_speed2, closest2);
+            evaluate_pairs<Dim>(pair, i, xi, x, static_cast<std::size_t>(n), support2, min_r2, block, acc,
+                                density_rate, max_speed2, closest2);
           }
+          block.finish(acc, density_rate);
         }
       }
     }
@@ -260,6 +256,7 @@ void shepard_loop(Particles<Dim>& p, const CellGrid<Dim>& grid, double h, double
   const Kernel kernel(h);
   const long n = static_cast<long>(p.size());
   const std::size_t N = simd::lanes();
+  const std::size_t size = p.size();
   const auto& cell_of = grid.cell_of();
   out.assign(p.density.begin(), p.density.end());
 #pragma omp parallel for schedule(dynamic, 512) num_threads(threads)
@@ -276,12 +273,12 @@ void shepard_loop(Particles<Dim>& p, const CellGrid<Dim>& grid, double h, double
         const std::size_t lanes = std::min<std::size_t>(N, end - j);
         Pack r2 = 0.0;
         for (int d = 0; d < Dim; ++d) {
-          const Pack dx = xi[d] - simd::load_first(lanes, p.position[d].data() + j, d == 0 ? outside : 0.0);
+          const Pack dx = xi[d] - simd::load_within(p.position[d].data(), j, lanes, size, d == 0 ? outside : 0.0);
           r2 += dx * dx;
         }
         const Pack w = shape::value_inside(kernel, simd::sqrt(r2));
         mass_sum += w;
-        volume_sum += w * simd::quotient(mass, simd::load_first(lanes, p.density.data() + j, 1.0));
+        volume_sum += w * simd::quotient(mass, simd::load_within(p.density.data(), j, lanes, size, 1.0));
       }
     });
     out[i] = mass * simd::reduce_add(mass_sum) / simd::reduce_add(volume_sum);
