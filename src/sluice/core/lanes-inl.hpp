@@ -16,8 +16,7 @@
 #define SLUICE_CORE_LANES_INL_H_
 #endif
 
-#include <array>
-#include <cstdint>
+#include <cstddef>
 
 #include <hwy/highway.h>
 
@@ -27,7 +26,6 @@ namespace sluice::HWY_NAMESPACE::simd {
 namespace hn = hwy::HWY_NAMESPACE;
 
 using D = hn::ScalableTag<double>;
-using DI = hn::RebindToSigned<D>;  // int64 lanes: the neighbour indices
 
 struct Mask {
   hn::Mask<D> m;
@@ -86,41 +84,6 @@ HWY_API Pack load_at(const double* base, std::size_t j, std::size_t size) {
   HWY_ALIGN double buffer[hn::MaxLanes(D())];
   for (std::size_t k = 0; k < hn::Lanes(d); ++k) buffer[k] = j + k < size ? base[j + k] : 0.0;
   return hn::Load(d, buffer);
-}
-HWY_API Mask first(std::size_t n) { return {hn::FirstN(D(), n)}; }
-// base[index[k]] for each lane k.
-HWY_API Pack gather(const double* base, hn::Vec<DI> index) { return hn::GatherIndex(D(), base, index); }
-
-// The lanes of v selected by m, moved to the front (the others follow in any order). On AVX2 with a
-// table of its own: Highway 1.0.3's Compress of 64-bit lanes there copies a 512-byte table onto the
-// stack at every call, which was a quarter of the pair loop's time.
-#if HWY_TARGET == HWY_AVX2
-inline constexpr auto kCompress4 = [] {
-  std::array<std::array<std::int64_t, 4>, 16> table{};
-  for (int bits = 0; bits < 16; ++bits) {
-    int k = 0;
-    for (int lane = 0; lane < 4; ++lane)
-      if (bits & (1 << lane)) table[bits][k++] = lane;
-    for (int lane = 0; lane < 4; ++lane)
-      if (!(bits & (1 << lane))) table[bits][k++] = lane;
-  }
-  return table;
-}();
-#endif
-
-template <class DV>
-HWY_API hn::Vec<DV> compress(DV d, hn::Vec<DV> v, hn::Mask<DV> m) {
-#if HWY_TARGET == HWY_AVX2
-  std::uint8_t bits = 0;
-  hn::StoreMaskBits(d, m, &bits);
-  using TI = hn::TFromD<hn::RebindToSigned<DV>>;
-  alignas(32) TI index[4];
-  for (int k = 0; k < 4; ++k) index[k] = static_cast<TI>(kCompress4[bits & 15][k]);
-  return hn::TableLookupLanes(v, hn::SetTableIndices(d, index));
-#else
-  (void)d;
-  return hn::Compress(v, m);
-#endif
 }
 
 }  // namespace sluice::HWY_NAMESPACE::simd

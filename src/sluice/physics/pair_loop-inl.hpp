@@ -2,16 +2,19 @@
 // this text once per target (physics/pair_loop.cpp), in the namespace sluice::HWY_NAMESPACE, with the
 // kernel shapes, the pair terms and the WCSPH pair included for that target's vectors.
 //
-// The traversal: each pair is evaluated once. Particle i collects its forward neighbours from the
-// cell grid (CellGrid::forward_ranges), a vector of candidates at a time, compressing those within the
-// support into a list of indices and separations; the list is padded to whole vectors with entries
-// outside the support (whose terms are exactly zero), the pair is evaluated a vector of neighbours at a
-// time with their fields gathered, the results for i are summed and those for the j stored and then
-// added to them. Threads work on bands of cells (rows in 2D, slabs in 3D): a band's pairs reach only
-// into the next band, so all even bands run at once, then all odd ones. Every particle therefore
-// receives its contributions in one fixed order — its lower band's, then its own band's, in index
-// order — whatever the number of threads, and the results are the same bit for bit on any thread
-// count. The vector sums have an order fixed by the target and the neighbour order.
+// The traversal: each pair is evaluated once. The particles of a cell share their forward candidates
+// (CellGrid::forward_ranges: the rest of their own row of cells and the rows after it), which are
+// ranges of consecutive indices. Particle i takes them a vector at a time, loaded contiguously: the
+// distances first, and if the vector holds a neighbour, the pair on every lane, the lanes outside the
+// support giving exactly nothing. The results for i are summed in registers; those for the candidates
+// in a block of the cell's own (CellBlock), added to the particles when the cell is done. (This
+// replaced a list of neighbours compressed from the candidates and evaluated with their fields
+// gathered: on AMD's Zen 3 the gathers and the scattered additions took more time than the pairs
+// the vectors' empty lanes waste.) Threads work on bands of cells (rows in 2D, slabs in 3D): a band's
+// pairs reach only into the next band, so all even bands run at once, then all odd ones. Every
+// particle therefore receives its contributions in one fixed order — its lower band's, then its own
+// band's, in cell order — whatever the number of threads, and the results are the same bit for bit
+// on any thread count. The vector sums have an order fixed by the target and the candidate order.
 //
 // Included once per target (no include guard: a per-target toggle).
 #if defined(SLUICE_PHYSICS_PAIR_LOOP_INL_H_) == defined(HWY_TARGET_TOGGLE)
