@@ -12,7 +12,7 @@ cd "$(dirname "$0")/.."
 end=${1:-0.5}
 example=/usr/lib/python3/dist-packages/pysph/examples/dam_break_2d.py
 [ -f "$example" ] || { echo "peer_pysph: $example not found; apt-get install python3-pysph" >&2; exit 1; }
-sluice=build/release/sluice
+sluice=${SLUICE:-build/release/sluice}  # SLUICE=path/to/sluice compares another build
 [ -x "$sluice" ] || { echo "peer_pysph: $sluice not built; run make build" >&2; exit 1; }
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT

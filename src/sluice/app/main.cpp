@@ -5,6 +5,7 @@
 #include <iostream>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <unistd.h>
@@ -22,8 +23,13 @@ namespace {
 // busy machine a 2-thread run can take several times longer than a 1-thread one. The OpenMP
 // runtime reads OMP_WAIT_POLICY once, before main(), so unless the user chose a policy sluice
 // restarts itself once with the passive one (threads sleep while they wait).
+// Not under valgrind (which preloads its vgpreload libraries): there /proc/self/exe is the valgrind
+// tool, which refuses to be started directly, and the restart would leave the profiler.
 void restart_with_passive_waiting(char** argv) {
-  if (std::getenv("OMP_WAIT_POLICY") == nullptr && ::setenv("OMP_WAIT_POLICY", "PASSIVE", 1) == 0)
+  if (std::getenv("OMP_WAIT_POLICY") != nullptr) return;
+  const char* preload = std::getenv("LD_PRELOAD");
+  if (preload != nullptr && std::string_view(preload).find("vgpreload") != std::string_view::npos) return;
+  if (::setenv("OMP_WAIT_POLICY", "PASSIVE", 1) == 0)
     ::execv("/proc/self/exe", argv);  // returns only if it failed; then carry on as we are
 }
 
