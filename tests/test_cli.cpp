@@ -154,6 +154,9 @@ TEST_F(Cli, Version) {
 // sluice restarts itself to choose the OpenMP wait policy, except under valgrind, whose tool refuses
 // to be restarted directly (callgrind is how the pair loop's instruction counts are profiled).
 TEST_F(Cli, RunsUnderValgrind) {
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+  GTEST_SKIP() << "a sanitizer build cannot run under valgrind";
+#endif
   if (!fs::exists("/usr/bin/valgrind")) GTEST_SKIP() << "valgrind is not installed";
   const Result r = command({"/usr/bin/valgrind", "--tool=none", "-q", SLUICE_BIN, "--version"});
   EXPECT_EQ(r.status, 0) << r.err;
