@@ -13,6 +13,7 @@
 
 #include "sluice/case/params.hpp"
 #include "sluice/io/atomic_file.hpp"
+#include "sluice/io/probes.hpp"
 #include "sluice/io/run.hpp"
 
 using namespace sluice;
@@ -200,4 +201,58 @@ TEST(StillWaterProbes, ReadHydrostaticPressureAndTheDepthAtTheirIntervals) {
   }
   std::error_code ec;
   fs::remove_all(run.dir, ec);
+}
+
+// The interpolation of a pressure probe, at t = 0 (hydrostatic densities: the pressure is exactly
+// rho0 g (depth - y) on every fluid particle). On the floor the fluid lies on one side only: the
+// Shepard average reads the pressure of the fluid above the floor, the first-order (linear) fit the
+// floor's own, rho0 g depth, to round-off. A sensor across the floor reads the same, since the
+// pressure does not change along it.
+TEST(PressureProbe, OnTheFloorTheLinearFitReadsTheFloorPressureAndShepardTheFluidAbove) {
+  const Case c = still_water_with_probes();
+  const Simulation sim(c, 1);
+  const double floor_pressure = rho0 * g * depth;
+  Probe probe;
+  probe.type = ProbeType::pressure;
+  probe.point = {0.5, 0.0, 0.0};
+  const double shepard = sample_probe(probe, sim)[0];
+  probe.correction = ProbeCorrection::linear;
+  const double linear = sample_probe(probe, sim)[0];
+  EXPECT_NEAR(linear, floor_pressure, 1e-9 * floor_pressure);
+  // The fluid within 2h = 2.6 dx of the floor has its centres 0.5 dx to 2.5 dx up.
+  EXPECT_LT(shepard, floor_pressure - rho0 * g * 0.5 * dx);
+  EXPECT_GT(shepard, floor_pressure - rho0 * g * 2.5 * dx);
+  probe.size = 0.2;
+  const std::vector<double> sensor = sample_probe(probe, sim);
+  EXPECT_NEAR(sensor[0], floor_pressure, 1e-9 * floor_pressure);
+  EXPECT_GT(sensor[1], 0.0);  // the neighbours of the sensor's centre
+  // In the water, away from walls and the surface, both read the pressure at the point: the linear fit
+  // to round-off, the Shepard average to 1e-4 (its weights m/rho_j W_ij are not quite symmetric about
+  // the point: the density grows with depth).
+  probe.size = 0.0;
+  probe.point = {0.5, 0.4, 0.0};
+  const double expected = rho0 * g * (depth - 0.4);
+  EXPECT_NEAR(sample_probe(probe, sim)[0], expected, 1e-9 * expected);
+  probe.correction = ProbeCorrection::shepard;
+  EXPECT_NEAR(sample_probe(probe, sim)[0], expected, 1e-4 * expected);
+}
+
+// A sensor on the side wall reaching above the water: its points in the air read 0, so it reads less
+// than its wet half does; a sensor wholly in the air reads 0.
+TEST(PressureProbe, ASensorReadsZeroWhereThereIsNoWater) {
+  const Case c = still_water_with_probes();
+  const Simulation sim(c, 1);
+  Probe probe;
+  probe.type = ProbeType::pressure;
+  probe.size = 0.1;
+  probe.point = {0.0, depth - 0.05, 0.0};  // on the wall x = 0, from 0.05 below the surface to it
+  const double wet = sample_probe(probe, sim)[0];
+  probe.point = {0.0, depth + 0.05, 0.0};  // from the surface to 0.1 above it
+  const double half = sample_probe(probe, sim)[0];
+  probe.point = {0.0, depth + 0.17, 0.0};  // 0.16 to 0.18 above the surface: beyond 2h = 0.13
+  probe.size = 0.02;
+  const double dry = sample_probe(probe, sim)[0];
+  EXPECT_GT(wet, 0.0);
+  EXPECT_LT(half, wet);
+  EXPECT_EQ(dry, 0.0);
 }

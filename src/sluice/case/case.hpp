@@ -31,6 +31,8 @@ inline constexpr std::array<std::string_view, 2> shape_names = {"box", "polygon"
 
 enum class ProbeType { pressure, gauge, front };
 inline constexpr std::array<std::string_view, 3> probe_type_names = {"pressure", "gauge", "front"};
+enum class ProbeCorrection { shepard, linear };
+inline constexpr std::array<std::string_view, 2> probe_correction_names = {"shepard", "linear"};
 
 template <class E, std::size_t N>
 constexpr std::string_view name_of(E value, const std::array<std::string_view, N>& names) {
@@ -52,6 +54,8 @@ struct Probe {
   Vec3 point{};        // pressure: where; gauge: where the vertical line stands; front: origin of the search
   Vec3 direction{};    // front: direction along which the furthest particle is found
   double band = 0.0;   // gauge: half-width of the band around the line (0 = one particle spacing)
+  double size = 0.0;   // pressure: the sensor's diameter (0 = a point); it lies on the nearest wall surface
+  ProbeCorrection correction = ProbeCorrection::shepard;  // pressure: how the interpolation is corrected
   double interval = 0.0;  // sampling interval in simulated time (0 = every step)
 };
 
@@ -89,6 +93,8 @@ struct Case {
   bool hydrostatic_start = true;
   double initial_pressure = 0.0;      // added to the water's initial pressure
   WallBoundary wall_boundary = WallBoundary::dynamic;
+  double shifting = 0.0;                // particle shifting coefficient A; 0 = off
+  double free_surface_threshold = 0.0;  // div r below which a fluid particle is on the free surface
 
   // [time]
   double end_time = 0.0;

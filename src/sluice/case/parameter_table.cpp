@@ -140,6 +140,13 @@ const std::vector<Param<Case>>& case_params() {
               "or adami (Adami, Hu & Adams 2012: wall pressure extrapolated from the fluid before each force "
               "evaluation, hydrostatic term included, negative values clamped to 0; free slip: no artificial "
               "viscosity between fluid and wall)."),
+      declare("physics.shifting", &Case::shifting, "", 0.0, 0.0, 10.0,
+              "Particle shifting coefficient A (0 = off): each step moves every fluid particle by "
+              "-A h |v| dt grad C (Lind et al. 2012, Skillen et al. 2013, with the anti-clumping weight of Sun et al. "
+              "2017), along the surface only near a free surface. 2 is DualSPHysics's value."),
+      with_3d_default(2.5, declare("physics.free_surface_threshold", &Case::free_surface_threshold, "", 1.5, 0.5, 3.0,
+                                   "For particle shifting: a fluid particle whose position divergence div r (about 2 "
+                                   "inside the water in 2D, 3 in 3D) is below this is on the free surface.")),
       declare("time.end", &Case::end_time, "s", 30.0, 0.0, inf, "Simulated end time."),
       declare_choice<&Case::integrator>(
               "time.integrator", Integrator::predictor_corrector, integrator_names,
@@ -178,7 +185,7 @@ const std::vector<Param<Probe>>& probe_params() {
               "Name of the probe; its series goes to probes/<name>.csv."),
       // A probe must say what it measures: its type has no default.
       required(declare_choice<&Probe::type>("type", ProbeType::pressure, probe_type_names,
-                                            "pressure: kernel-weighted fluid pressure at `point`; gauge: water "
+                                            "pressure: kernel-interpolated pressure at `point` (see size, correction); gauge: water "
                                             "height on the vertical line through `point`; front: furthest fluid "
                                             "particle from `point` along `direction`.")),
       declare("point", &Probe::point, "m", std::monostate{}, unbounded_lower, unbounded_upper,
@@ -188,6 +195,15 @@ const std::vector<Param<Probe>>& probe_params() {
       declare("band", &Probe::band, "m", 0.0, 0.0, 1e300,
               "Half-width of a gauge's band of particles around its vertical line (in x, and in y in 3D); 0 = one "
               "particle spacing."),
+      declare("size", &Probe::size, "m", 0.0, 0.0, 1e300,
+              "Diameter of a pressure sensor; 0 = a point. A sensor lies on the wall surface nearest to `point` "
+              "(a segment across the wall in 2D, a disc in 3D) and reads the mean of the interpolated pressure over "
+              "it, 0 where no water is."),
+      declare_choice<&Probe::correction>(
+              "correction", ProbeCorrection::shepard, probe_correction_names,
+              "How a pressure probe interpolates: shepard (kernel average normalised by its weights) or linear "
+              "(first-order: the value at the point of the weighted least-squares linear fit of the neighbours' "
+              "pressures, which reaches a wall's surface; Shepard where the neighbours are too few or in a line)."),
       declare("interval", &Probe::interval, "s", 0.0, 0.0, 1e300, "Sampling interval; 0 = every step."),
   };
   return params;

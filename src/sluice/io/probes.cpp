@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -20,36 +22,144 @@ std::string probe_header(const Probe& probe, int dimension) {
 
 namespace {
 
+// The pressure interpolated at x from the particles within the kernel support: the fluid's, and the
+// wall particles' where the wall treatment gives them the wall's pressure (Adami). Shepard: the kernel
+// average normalised by its weights. Linear: the value at x of the linear function a + b . (x_j - x)
+// fitted to the neighbours' pressures by least squares with the weights V_j W_ij (first order: exact
+// for a linear pressure field, hydrostatic pressure included, even where the neighbours lie on one
+// side, as at a wall); Shepard where the fit is ill-posed (fewer neighbours than unknowns, or in a
+// line). `neighbours` counts the particles used. No neighbours: 0.
+template <int Dim, class Kernel>
+double interpolated_pressure(const Solver<Dim>& solver, const Kernel& kernel, const Vec<Dim>& at,
+                             ProbeCorrection correction, bool with_walls, std::int64_t& neighbours) {
+  const Particles<Dim>& p = solver.particles();
+  const double support = Kernel::support * kernel.h, inv_h = 1.0 / kernel.h;
+  constexpr int M = Dim + 1;
+  // Weighted moments, in units of h: m[a][b] = sum w y_a y_b with y = (1, (x_j - x)/h); f[a] = sum w p y_a.
+  std::array<std::array<double, M>, M> m{};
+  std::array<double, M> f{};
+  neighbours = 0;
+  Vec<Dim> lower = at, upper = at;
+  for (int d = 0; d < Dim; ++d) lower[d] -= support, upper[d] += support;
+  solver.for_each_range_in_box(lower, upper, [&](std::uint32_t begin, std::uint32_t end) {
+    for (std::uint32_t i = begin; i < end; ++i) {
+      if (!p.is_fluid(i) && !with_walls) continue;
+      std::array<double, M> y{1.0};
+      double r2 = 0.0;
+      for (int d = 0; d < Dim; ++d) {
+        const double r = p.position[d][i] - at[d];
+        r2 += r * r;
+        y[d + 1] = r * inv_h;
+      }
+      if (r2 >= support * support) continue;
+      const double w = kernel.value(std::sqrt(r2)) * solver.particle_mass() / p.density[i];
+      const double pressure = solver.eos().pressure(p.density[i]);
+      for (int a = 0; a < M; ++a) {
+        f[a] += w * pressure * y[a];
+        for (int b = 0; b < M; ++b) m[a][b] += w * y[a] * y[b];
+      }
+      ++neighbours;
+    }
+  });
+  // Every process's neighbours (the fit is over all of them).
+  const Reducer& all = solver.reducer();
+  for (int a = 0; a < M; ++a) {
+    f[a] = all.sum(f[a]);
+    for (int b = 0; b < M; ++b) m[a][b] = all.sum(m[a][b]);
+  }
+  neighbours = all.sum(neighbours);
+  if (!(m[0][0] > 0.0)) return 0.0;
+  const double shepard = f[0] / m[0][0];
+  if (correction == ProbeCorrection::shepard || neighbours < M) return shepard;
+  // Gaussian elimination with partial pivoting on the moments normalised by the weight sum; a pivot
+  // below `tiny` means the neighbours do not span the space (in a line, or a single point).
+  constexpr double tiny = 1e-6;
+  const double weight = m[0][0];
+  for (int a = 0; a < M; ++a) {
+    f[a] /= weight;
+    for (int b = 0; b < M; ++b) m[a][b] /= weight;
+  }
+  for (int c = 0; c < M; ++c) {
+    int pivot = c;
+    for (int a = c + 1; a < M; ++a)
+      if (std::abs(m[a][c]) > std::abs(m[pivot][c])) pivot = a;
+    if (std::abs(m[pivot][c]) < tiny) return shepard;
+    std::swap(m[c], m[pivot]);
+    std::swap(f[c], f[pivot]);
+    for (int a = c + 1; a < M; ++a) {
+      const double factor = m[a][c] / m[c][c];
+      for (int b = c; b < M; ++b) m[a][b] -= factor * m[c][b];
+      f[a] -= factor * f[c];
+    }
+  }
+  std::array<double, M> coef{};
+  for (int a = M - 1; a >= 0; --a) {
+    double rest = f[a];
+    for (int b = a + 1; b < M; ++b) rest -= m[a][b] * coef[b];
+    coef[a] = rest / m[a][a];
+  }
+  return coef[0];
+}
+
+// Where a pressure sensor of diameter `size` centred at `at` samples: points about dx/4 apart over a
+// segment (2D) or a disc (3D) in the tangent plane of the nearest solid surface; the centre alone for
+// a point probe or when no solid is near.
+template <int Dim>
+std::vector<Vec<Dim>> sensor_points(const Solver<Dim>& solver, const Vec<Dim>& at, double size) {
+  std::vector<Vec<Dim>> points{at};
+  if (!(size > 0.0) || solver.solids().empty()) return points;
+  double nearest = std::numeric_limits<double>::infinity();
+  Vec<Dim> normal{};
+  for (const auto& solid : solver.solids()) {
+    const double distance = std::abs(solid->signed_distance(at));
+    if (distance < nearest) {
+      nearest = distance;
+      normal = solid->closest_surface_point(at).normal;
+    }
+  }
+  // Two (in 3D) or one (in 2D) unit tangents.
+  std::array<Vec<Dim>, Dim - 1> tangent{};
+  if constexpr (Dim == 2) {
+    tangent[0] = Vec<Dim>{-normal[1], normal[0]};
+  } else {
+    const Vec<Dim> helper = std::abs(normal[0]) < 0.9 ? Vec<Dim>{1.0, 0.0, 0.0} : Vec<Dim>{0.0, 1.0, 0.0};
+    const Vec<Dim> t0 = helper - dot(helper, normal) * normal;
+    tangent[0] = (1.0 / norm(t0)) * t0;
+    tangent[1] = Vec<Dim>{normal[1] * tangent[0][2] - normal[2] * tangent[0][1],
+                          normal[2] * tangent[0][0] - normal[0] * tangent[0][2],
+                          normal[0] * tangent[0][1] - normal[1] * tangent[0][0]};
+  }
+  const double spacing = 0.25 * solver.config().dx;
+  const int half = std::max(1, static_cast<int>(std::ceil(0.5 * size / spacing)));
+  const double step = 0.5 * size / half;
+  points.clear();
+  if constexpr (Dim == 2) {
+    for (int k = -half; k <= half; ++k) points.push_back(at + (k * step) * tangent[0]);
+  } else {
+    for (int k = -half; k <= half; ++k)
+      for (int l = -half; l <= half; ++l)
+        if ((k * k + l * l) * step * step <= 0.25 * size * size * (1.0 + 1e-12))
+          points.push_back(at + (k * step) * tangent[0] + (l * step) * tangent[1]);
+  }
+  return points;
+}
+
 template <int Dim>
 std::vector<double> pressure_at(const Probe& probe, const Solver<Dim>& solver) {
-  const Particles<Dim>& p = solver.particles();
   const Vec<Dim> at = first<Dim>(probe.point);
+  const bool with_walls = solver.config().wall_boundary == WallBoundary::adami;
+  const std::vector<Vec<Dim>> points = sensor_points<Dim>(solver, at, probe.size);
   return std::visit(
       [&](const auto& kernel) -> std::vector<double> {
-        const double support = std::decay_t<decltype(kernel)>::support * kernel.h;
-        double weighted = 0.0, weight = 0.0;
-        std::int64_t neighbours = 0;
-        Vec<Dim> lower = at, upper = at;
-        for (int d = 0; d < Dim; ++d) lower[d] -= support, upper[d] += support;
-        solver.for_each_range_in_box(lower, upper, [&](std::uint32_t begin, std::uint32_t end) {
-          for (std::uint32_t i = begin; i < end; ++i) {
-            if (!p.is_fluid(i)) continue;
-            double r2 = 0.0;
-            for (int d = 0; d < Dim; ++d) {
-              const double r = p.position[d][i] - at[d];
-              r2 += r * r;
-            }
-            if (r2 >= support * support) continue;
-            const double w = kernel.value(std::sqrt(r2)) * solver.particle_mass() / p.density[i];
-            weighted += w * solver.eos().pressure(p.density[i]);
-            weight += w;
-            ++neighbours;
-          }
-        });
-        const Reducer& all = solver.reducer();
-        weighted = all.sum(weighted);
-        weight = all.sum(weight);
-        return {weight > 0.0 ? weighted / weight : 0.0, static_cast<double>(all.sum(neighbours))};
+        // The mean over the sensor's points; a point without water reads 0.
+        double sum = 0.0;
+        std::int64_t centre_neighbours = 0;
+        for (std::size_t k = 0; k < points.size(); ++k) {
+          std::int64_t neighbours = 0;
+          sum += interpolated_pressure<Dim>(solver, kernel, points[k], probe.correction, with_walls, neighbours);
+          if (k == points.size() / 2) centre_neighbours = neighbours;
+        }
+        return {sum / static_cast<double>(points.size()), static_cast<double>(centre_neighbours)};
       },
       solver.kernel());
 }

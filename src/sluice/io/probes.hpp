@@ -1,6 +1,7 @@
 // Probes and gauges declared in the case, sampled during the run:
-//   pressure: kernel-weighted (Shepard-normalised) pressure of the fluid particles around a point, with
-//             the run's kernel;
+//   pressure: the pressure interpolated with the run's kernel (Shepard-normalised, or first-order
+//             corrected) from the fluid particles around a point (and the wall particles, with Adami
+//             walls), or its mean over a sensor of finite size on the nearest wall surface;
 //   gauge:    water height on a vertical line: top of the highest fluid particle (up + dx/2) within a
 //             band around the line;
 //   front:    furthest fluid particle from a point along a direction (its distance, and its position).

@@ -46,6 +46,7 @@ using simd::Pack;
 #include "sluice/physics/kernel_shapes-inl.hpp"
 #include "sluice/physics/pair_terms-inl.hpp"
 #include "sluice/physics/wcsph_pair-inl.hpp"
+#include "sluice/physics/shifting_pair-inl.hpp"
 
 // f(begin, end) for each range of a CellGrid range list. (The loop is here, not a callback through
 // CellGrid, which is compiled for the baseline instruction set and could not inline this target's f.)
@@ -57,17 +58,17 @@ HWY_INLINE void for_each_range(const Ranges& ranges, F&& f) {
 // The candidates of one cell and what its particles give them. Every particle i of a cell has the
 // same forward candidates, except that in its own cell only those after i count: the ranges
 // [cell_begin, own_end) and the cell's other forward ranges (CellGrid::ForwardRanges). Their
-// contributions are summed here, each candidate at a fixed place of the block, and added to the
-// particles once, when the cell is done: the neighbours' sums stay in the first-level cache, no two
-// threads ever write the same place (the block is the thread's own), and consecutive particles of
-// the cell write the same vectors at the same addresses (each range starts a whole vector).
-template <int Dim>
+// contributions, Outputs numbers per candidate, are summed here, each candidate at a fixed place of
+// the block, and added to the particles once, when the cell is done: the neighbours' sums stay in the
+// first-level cache, no two threads ever write the same place (the block is the thread's own), and
+// consecutive particles of the cell write the same vectors at the same addresses (each range starts a
+// whole vector).
+template <int Dim, std::size_t Outputs>
 struct CellBlock {
   static constexpr int kMaxRanges = (Dim == 3 ? 4 : Dim - 1) + 1;
   std::array<std::uint32_t, kMaxRanges> begin{}, end{}, offset{};
   int ranges = 0;
-  std::array<std::vector<double>, Dim> to_j;
-  std::vector<double> to_j_rho;
+  std::array<std::vector<double>, Outputs> to_j;
 
   // Sets the block to the cell's candidates, with nothing given to them yet.
   template <class Forward>
@@ -84,26 +85,20 @@ struct CellBlock {
     };
     add(cell_begin, forward.own_end);
     for (int k = 0; k < forward.others; ++k) add(forward.other[k].first, forward.other[k].second);
-    if (to_j_rho.size() < size) {
+    if (to_j[0].size() < size)
       for (auto& b : to_j) b.resize(2 * size);
-      to_j_rho.resize(2 * size);
-    }
     for (auto& b : to_j) std::fill_n(b.begin(), size, 0.0);
-    std::fill_n(to_j_rho.begin(), size, 0.0);
   }
 
-  // Adds what the cell's particles gave its candidates to their rates.
-  void finish(const std::array<double*, Dim>& acc, double* density_rate) const {
+  // Adds what the cell's particles gave its candidates to the output arrays.
+  void finish(const std::array<double*, Outputs>& out) const {
     for (int k = 0; k < ranges; ++k) {
       const std::uint32_t b = begin[k], n = end[k] - b, o = offset[k];
-      for (int d = 0; d < Dim; ++d) {
-        double* __restrict a = acc[d] + b;
-        const double* __restrict t = to_j[d].data() + o;
+      for (std::size_t c = 0; c < Outputs; ++c) {
+        double* __restrict a = out[c] + b;
+        const double* __restrict t = to_j[c].data() + o;
         for (std::uint32_t q = 0; q < n; ++q) a[q] += t[q];
       }
-      double* __restrict r = density_rate + b;
-      const double* __restrict t = to_j_rho.data() + o;
-      for (std::uint32_t q = 0; q < n; ++q) r[q] += t[q];
     }
   }
 };
@@ -112,13 +107,18 @@ struct CellBlock {
 // consecutive candidates at a time, loaded contiguously. Lanes outside the support, at or before i in
 // its own cell, past a range's end, or coincident with i contribute exactly nothing (their results
 // are replaced by zeros); vectors without a neighbour are skipped after the distance test. Adds i's
-// sums to its rates and the candidates' shares to the block; returns the pair maxima (speed2, and the
-// smallest fluid_r2) through `speed2_max` and `r2_min`.
+// sums to the output arrays and the candidates' shares to the block; returns the pair maxima (speed2,
+// and the smallest fluid_r2) through `speed2_max` and `r2_min`.
+//
+// What a pair returns (Pair::Rates<T>): `opposite`, numbers i receives and j receives with the
+// opposite sign (a force), then `to_i` and `to_j`, numbers each side receives of its own (a density
+// rate); the output arrays are in that order.
 template <int Dim, class Pair>
 HWY_INLINE void evaluate_pairs(const Pair& shared_pair, std::uint32_t i, const std::array<double, Dim>& xi,
                                const std::array<const double*, Dim>& x, std::size_t size, double support2,
-                               double min_r2, CellBlock<Dim>& block, const std::array<double*, Dim>& acc,
-                               double* density_rate, double& speed2_max, double& r2_min) {
+                               double min_r2, CellBlock<Dim, Pair::kOutputs>& block,
+                               const std::array<double*, Pair::kOutputs>& out, double& speed2_max, double& r2_min) {
+  constexpr std::size_t A = Pair::kOpposite, S = Pair::kOwn;
   // A copy of its own: the compiler then knows that the stores below do not change the constants of
   // the pair, and keeps them and their products out of the loop.
   const Pair pair = shared_pair;
@@ -126,9 +126,9 @@ HWY_INLINE void evaluate_pairs(const Pair& shared_pair, std::uint32_t i, const s
   const std::size_t N = hn::Lanes(d);
   const auto upper = hn::Set(d, support2), lower = hn::Set(d, min_r2);
   const auto si = pair.template side<Pack>([&](const double* a) { return Pack(a[i]); });
-  std::array<Pack, Dim> sum;
+  std::array<Pack, A + S> sum;
   sum.fill(0.0);
-  Pack drho = 0.0, vmax = 0.0, rmin = pair.far_r2;
+  Pack vmax = 0.0, rmin = pair.far_r2;
   for (int k = 0; k < block.ranges; ++k) {
     const std::uint32_t b = block.begin[k], e = block.end[k];
     // In i's own cell (the first range), from the whole vector that holds i + 1.
@@ -149,25 +149,78 @@ HWY_INLINE void evaluate_pairs(const Pair& shared_pair, std::uint32_t i, const s
       const simd::Mask hit{hn::And(valid, hn::And(hn::Lt(r2, upper), hn::Gt(r2, lower)))};
       if (hn::AllFalse(d, hit.m)) continue;
       const auto sj = pair.template side<Pack>([&](const double* a) { return simd::load_at(a, j, size); });
-      const auto out = pair(si, sj, r_ij);
+      const auto rates = pair(si, sj, r_ij);
       const std::size_t at = block.offset[k] + (j - b);
-      for (int c = 0; c < Dim; ++c) {
-        const Pack f = simd::select(hit, out.force[c], 0.0);
+      for (std::size_t c = 0; c < A; ++c) {
+        const Pack f = simd::select(hit, rates.opposite[c], 0.0);
         sum[c] += f;
         double* to = block.to_j[c].data() + at;
         simd::store(simd::load(to) - f, to);
       }
-      drho += simd::select(hit, out.drho_i, 0.0);
-      double* to = block.to_j_rho.data() + at;
-      simd::store(simd::load(to) + simd::select(hit, out.drho_j, 0.0), to);
-      vmax = simd::max(vmax, simd::select(hit, out.speed2, 0.0));
-      rmin = simd::min(rmin, simd::select(hit, out.fluid_r2, pair.far_r2));
+      for (std::size_t c = 0; c < S; ++c) {
+        sum[A + c] += simd::select(hit, rates.to_i[c], 0.0);
+        double* to = block.to_j[A + c].data() + at;
+        simd::store(simd::load(to) + simd::select(hit, rates.to_j[c], 0.0), to);
+      }
+      vmax = simd::max(vmax, simd::select(hit, rates.speed2, 0.0));
+      rmin = simd::min(rmin, simd::select(hit, rates.fluid_r2, pair.far_r2));
     }
   }
-  for (int c = 0; c < Dim; ++c) acc[c][i] += simd::reduce_add(sum[c]);
-  density_rate[i] += simd::reduce_add(drho);
+  for (std::size_t c = 0; c < A + S; ++c) out[c][i] += simd::reduce_add(sum[c]);
   speed2_max = std::max(speed2_max, simd::reduce_max(vmax));
   r2_min = std::min(r2_min, simd::reduce_min(rmin));
+}
+
+// Every pair within the support of `pair` over the particles at x, once, with the results added to
+// the output arrays `out` (zeroed first; Pair::Rates says their order). Wall particles with no fluid
+// particle among their forward candidates are skipped (wall-wall pairs are of no use to any pair
+// here). Returns the largest speed2 and the smallest fluid_r2 of the pairs through `speed2_max` and
+// `r2_min`. Called inside a parallel region, by every thread of it.
+template <int Dim, class Pair>
+HWY_INLINE void for_each_pair(const Pair& pair, const CellGrid<Dim>& grid, const std::array<const double*, Dim>& x,
+                              const double* fluid, const std::vector<std::uint32_t>& fluid_before, double support2,
+                              double min_r2, const std::array<double*, Pair::kOutputs>& out, double& speed2_max,
+                              double& r2_min) {
+  const long n = static_cast<long>(grid.cell_of().size());
+  const auto& cell_start = grid.cell_start();
+#pragma omp for schedule(static)
+  for (long i = 0; i < n; ++i)
+    for (double* o : out) o[i] = 0.0;
+  CellBlock<Dim, Pair::kOutputs> block;
+  const long bands = static_cast<long>(grid.band_count());
+  for (long parity = 0; parity < 2; ++parity) {
+#pragma omp for schedule(dynamic, 1) reduction(max : speed2_max) reduction(min : r2_min)
+    for (long band = parity; band < bands; band += 2) {
+      const auto [first_cell, last_cell] = grid.band_cells(static_cast<std::size_t>(band));
+      for (std::uint32_t cell = first_cell; cell < last_cell; ++cell) {
+        const std::uint32_t cell_begin = cell_start[cell], cell_end = cell_start[cell + 1];
+        if (cell_begin == cell_end) continue;
+        const auto ranges = grid.forward_ranges(cell);
+        block.start(cell_begin, ranges);
+        for (std::uint32_t i = cell_begin; i < cell_end; ++i) {
+          if (fluid[i] == 0.0) {
+            bool near_fluid = false;
+            for_each_range(ranges.of(i), [&](std::uint32_t begin, std::uint32_t end) {
+              near_fluid = near_fluid || (end > begin && fluid_before[end] > fluid_before[begin]);
+            });
+            if (!near_fluid) continue;
+          }
+          std::array<double, Dim> xi{};
+          for (int d = 0; d < Dim; ++d) xi[d] = x[d][i];
+          evaluate_pairs<Dim>(pair, i, xi, x, static_cast<std::size_t>(n), support2, min_r2, block, out, speed2_max,
+                              r2_min);
+        }
+        block.finish(out);
+      }
+    }
+  }
+}
+
+// Fluid particles before each sorted index (for_each_pair's wall-particle test).
+inline std::vector<std::uint32_t> fluid_counts(const double* fluid, long n) {
+  std::vector<std::uint32_t> before(static_cast<std::size_t>(n) + 1, 0);
+  for (long i = 0; i < n; ++i) before[i + 1] = before[i] + (fluid[i] != 0.0);
+  return before;
 }
 
 // Gravity on the fluid, and the largest fluid acceleration and density.
@@ -193,64 +246,43 @@ RateSummary rate_loop(Particles<Dim>& p, const CellGrid<Dim>& grid, const RateSe
                       const ParticleTerms& t, int threads) {
   const double support2 = Kernel::support * Kernel::support * s.h * s.h;
   const double min_r2 = 1e-18 * s.h * s.h;  // excludes i = j (and exactly coincident points)
-  const auto pair = WcsphPair<Dim, Kernel, Walls, WithArtificialPressure>::of(p, s, t);
+  using Pair = WcsphPair<Dim, Kernel, Walls, WithArtificialPressure>;
+  const auto pair = Pair::of(p, s, t);
 
-  const long n = static_cast<long>(p.size());
   std::array<const double*, Dim> x{};
-  std::array<double*, Dim> acc{};
+  std::array<double*, Pair::kOutputs> out{};
   for (int d = 0; d < Dim; ++d) {
     x[d] = p.position[d].data();
-    acc[d] = p.acceleration[d].data();
+    out[d] = p.acceleration[d].data();
   }
-  double* const density_rate = p.density_rate.data();
+  out[Dim] = p.density_rate.data();
   const double* const fluid = t.fluid_mask.data();
-  const auto& cell_start = grid.cell_start();
-
-  // Fluid particles before each sorted index: a wall particle with no fluid among its forward
-  // candidates has only wall-wall pairs there (v_ij = 0, no diffusion, wall accelerations unused) and
-  // is skipped.
-  std::vector<std::uint32_t> fluid_before(static_cast<std::size_t>(n) + 1, 0);
-  for (long i = 0; i < n; ++i) fluid_before[i + 1] = fluid_before[i] + (fluid[i] != 0.0);
-  const long bands = static_cast<long>(grid.band_count());
+  const auto fluid_before = fluid_counts(fluid, static_cast<long>(p.size()));
 
   double max_accel2 = 0.0, max_speed2 = 0.0, max_rho = 0.0, closest2 = support2;
 #pragma omp parallel num_threads(threads)
   {
-#pragma omp for schedule(static)
-    for (long i = 0; i < n; ++i) {
-      for (int d = 0; d < Dim; ++d) acc[d][i] = 0.0;
-      density_rate[i] = 0.0;
-    }
-    CellBlock<Dim> block;
-    for (long parity = 0; parity < 2; ++parity) {
-#pragma omp for schedule(dynamic, 1) reduction(max : max_speed2) reduction(min : closest2)
-      for (long band = parity; band < bands; band += 2) {
-        const auto [first_cell, last_cell] = grid.band_cells(static_cast<std::size_t>(band));
-        for (std::uint32_t cell = first_cell; cell < last_cell; ++cell) {
-          const std::uint32_t cell_begin = cell_start[cell], cell_end = cell_start[cell + 1];
-          if (cell_begin == cell_end) continue;
-          const auto ranges = grid.forward_ranges(cell);
-          block.start(cell_begin, ranges);
-          for (std::uint32_t i = cell_begin; i < cell_end; ++i) {
-            if (fluid[i] == 0.0) {
-              bool near_fluid = false;
-              for_each_range(ranges.of(i), [&](std::uint32_t begin, std::uint32_t end) {
-                near_fluid = near_fluid || (end > begin && fluid_before[end] > fluid_before[begin]);
-              });
-              if (!near_fluid) continue;
-            }
-            std::array<double, Dim> xi{};
-            for (int d = 0; d < Dim; ++d) xi[d] = x[d][i];
-            evaluate_pairs<Dim>(pair, i, xi, x, static_cast<std::size_t>(n), support2, min_r2, block, acc,
-                                density_rate, max_speed2, closest2);
-          }
-          block.finish(acc, density_rate);
-        }
-      }
-    }
+    for_each_pair<Dim>(pair, grid, x, fluid, fluid_before, support2, min_r2, out, max_speed2, closest2);
     add_gravity<Dim>(p, s.gravity, fluid, max_accel2, max_rho);
   }
   return {std::sqrt(max_accel2), std::sqrt(max_speed2), max_rho, std::sqrt(closest2)};
+}
+
+// The sums of particle shifting (physics/shifting_pair-inl.hpp) into `out`: grad C, grad C^R, div r.
+template <int Dim, class Kernel>
+void shifting_loop(const Particles<Dim>& p, const CellGrid<Dim>& grid, const ShiftingSums& s, const double* fluid,
+                   const std::array<double*, 2 * Dim + 1>& out, int threads) {
+  using Pair = ShiftingPair<Dim, Kernel>;
+  const Kernel kernel(s.h);
+  const Pair pair{kernel, s.volume, s.tensile, 1.0 / kernel.value(s.spacing), s.exponent,
+                  Kernel::support * Kernel::support * s.h * s.h};
+  const double support2 = pair.far_r2, min_r2 = 1e-18 * s.h * s.h;
+  std::array<const double*, Dim> x{};
+  for (int d = 0; d < Dim; ++d) x[d] = p.position[d].data();
+  const auto fluid_before = fluid_counts(fluid, static_cast<long>(p.size()));
+  double unused_speed2 = 0.0, unused_r2 = support2;
+#pragma omp parallel num_threads(threads)
+  for_each_pair<Dim>(pair, grid, x, fluid, fluid_before, support2, min_r2, out, unused_speed2, unused_r2);
 }
 
 template <int Dim, class Kernel>
@@ -296,7 +328,10 @@ void add_rate_loops(DimensionLoops<Dim>& loops) {
   using Walls = std::variant_alternative_t<W, WallTreatment>;
   loops.rates[K][W][0] = &rate_loop<Dim, Kernel, Walls, false>;
   loops.rates[K][W][1] = &rate_loop<Dim, Kernel, Walls, true>;
-  if constexpr (W == 0) loops.shepard[K] = &shepard_loop<Dim, Kernel>;
+  if constexpr (W == 0) {
+    loops.shepard[K] = &shepard_loop<Dim, Kernel>;
+    loops.shifting[K] = &shifting_loop<Dim, Kernel>;
+  }
 }
 
 template <int Dim, std::size_t K, std::size_t... W>

@@ -90,10 +90,21 @@ void shepard_filter(Particles<Dim>& p, const CellGrid<Dim>& grid, const AnyKerne
   loops().template of<Dim>().shepard[kernel.index()](p, grid, h, mass, selected, scratch, threads);
 }
 
+template <int Dim>
+void shifting_sums(const Particles<Dim>& p, const CellGrid<Dim>& grid, const AnyKernel<Dim>& kernel,
+                   const ShiftingSums& settings, const double* fluid, const std::array<double*, 2 * Dim + 1>& out,
+                   int threads) {
+  loops().template of<Dim>().shifting[kernel.index()](p, grid, settings, fluid, out, threads);
+}
+
 template RateSummary compute_rates<2>(Particles<2>&, const CellGrid<2>&, const AnyKernel<2>&, const WallTreatment&,
                                       const RateSettings<2>&, const ParticleTerms&, int);
 template RateSummary compute_rates<3>(Particles<3>&, const CellGrid<3>&, const AnyKernel<3>&, const WallTreatment&,
                                       const RateSettings<3>&, const ParticleTerms&, int);
+template void shifting_sums<2>(const Particles<2>&, const CellGrid<2>&, const AnyKernel<2>&, const ShiftingSums&,
+                               const double*, const std::array<double*, 5>&, int);
+template void shifting_sums<3>(const Particles<3>&, const CellGrid<3>&, const AnyKernel<3>&, const ShiftingSums&,
+                               const double*, const std::array<double*, 7>&, int);
 template void shepard_filter<2>(Particles<2>&, const CellGrid<2>&, const AnyKernel<2>&, double,
                                 const std::vector<std::uint8_t>*, std::vector<double>&, int);
 template void shepard_filter<3>(Particles<3>&, const CellGrid<3>&, const AnyKernel<3>&, double,

@@ -1,8 +1,10 @@
 // The table of compiled pair loops of one instruction set (physics/pair_loop-inl.hpp builds one per
 // target; physics/pair_loop.cpp picks the CPU's best): a function per dimension, kernel, wall
-// treatment and artificial-pressure switch, and a Shepard filter per dimension and kernel.
+// treatment and artificial-pressure switch, and a Shepard filter and the sums of particle shifting
+// per dimension and kernel.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <variant>
 #include <vector>
@@ -22,9 +24,14 @@ using ShepardLoop = void (*)(Particles<Dim>&, const CellGrid<Dim>&, double h, do
                              const std::vector<std::uint8_t>* selected, std::vector<double>& scratch, int threads);
 
 template <int Dim>
+using ShiftingLoop = void (*)(const Particles<Dim>&, const CellGrid<Dim>&, const ShiftingSums&, const double* fluid,
+                              const std::array<double*, 2 * Dim + 1>& out, int threads);
+
+template <int Dim>
 struct DimensionLoops {
   RateLoop<Dim> rates[kKernels][kWallTreatments][2];  // [kernel][walls][with artificial pressure]
   ShepardLoop<Dim> shepard[kKernels];
+  ShiftingLoop<Dim> shifting[kKernels];
 };
 
 struct RateLoops {

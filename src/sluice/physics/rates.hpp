@@ -4,6 +4,7 @@
 // chosen when the program starts (physics/simd_target.hpp).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -38,6 +39,15 @@ struct RateSummary {
   double min_fluid_distance = 0.0;  // smallest distance from a fluid particle to any other (clumping)
 };
 
+// What the sums of particle shifting need (physics/shifting.hpp).
+struct ShiftingSums {
+  double h = 0.0;        // smoothing length
+  double spacing = 0.0;  // dx
+  double volume = 0.0;   // dx^Dim
+  double tensile = 0.2;  // R of Sun et al. (2017)
+  int exponent = 4;      // n
+};
+
 // Fills p.acceleration (fluid particles, gravity included; wall entries are scratch) and
 // p.density_rate (all particles) from the pair interactions of every pair within the kernel support.
 // `terms` must be computed on the current densities, and `grid` binned on the current particle order.
@@ -54,12 +64,25 @@ template <int Dim>
 void shepard_filter(Particles<Dim>& p, const CellGrid<Dim>& grid, const AnyKernel<Dim>& kernel, double mass,
                     const std::vector<std::uint8_t>* selected, std::vector<double>& scratch, int threads);
 
+// The sums of particle shifting over every pair, fluid and wall particles alike (physics/
+// shifting_pair-inl.hpp): out[0, Dim) = grad C, out[Dim, 2 Dim) = grad C^R, out[2 Dim] = div r, each
+// of the particle count. `fluid` is 1 for fluid, 0 for wall particles; `grid` binned on the current
+// order. The same bit for bit on any number of threads.
+template <int Dim>
+void shifting_sums(const Particles<Dim>& p, const CellGrid<Dim>& grid, const AnyKernel<Dim>& kernel,
+                   const ShiftingSums& settings, const double* fluid, const std::array<double*, 2 * Dim + 1>& out,
+                   int threads);
+
 extern template RateSummary compute_rates<2>(Particles<2>&, const CellGrid<2>&, const AnyKernel<2>&,
                                              const WallTreatment&, const RateSettings<2>&, const ParticleTerms&, int);
 extern template RateSummary compute_rates<3>(Particles<3>&, const CellGrid<3>&, const AnyKernel<3>&,
                                              const WallTreatment&, const RateSettings<3>&, const ParticleTerms&, int);
 extern template void shepard_filter<2>(Particles<2>&, const CellGrid<2>&, const AnyKernel<2>&, double,
                                        const std::vector<std::uint8_t>*, std::vector<double>&, int);
+extern template void shifting_sums<2>(const Particles<2>&, const CellGrid<2>&, const AnyKernel<2>&,
+                                      const ShiftingSums&, const double*, const std::array<double*, 5>&, int);
+extern template void shifting_sums<3>(const Particles<3>&, const CellGrid<3>&, const AnyKernel<3>&,
+                                      const ShiftingSums&, const double*, const std::array<double*, 7>&, int);
 extern template void shepard_filter<3>(Particles<3>&, const CellGrid<3>&, const AnyKernel<3>&, double,
                                        const std::vector<std::uint8_t>*, std::vector<double>&, int);
 

@@ -20,13 +20,15 @@ struct WcsphPair {
   };
 
   // What it returns: the force on i (j receives -force), both density rates, and what the time step
-  // and the clumping check need, over the pairs that have a fluid particle.
+  // and the clumping check need, over the pairs that have a fluid particle. The pair loop adds them
+  // to the accelerations and the density rates, in that order.
+  static constexpr std::size_t kOpposite = Dim, kOwn = 1, kOutputs = kOpposite + kOwn;
   template <class T>
   struct Rates {
-    std::array<T, Dim> force;
-    T drho_i, drho_j;
-    T speed2;    // |v_ij|^2, or 0 for a wall-wall pair
-    T fluid_r2;  // r^2, or far_r2 for a wall-wall pair
+    std::array<T, kOpposite> opposite;  // the force on i
+    std::array<T, kOwn> to_i, to_j;     // the density rates
+    T speed2;                           // |v_ij|^2, or 0 for a wall-wall pair
+    T fluid_r2;                         // r^2, or far_r2 for a wall-wall pair
   };
 
   Kernel kernel;
@@ -106,13 +108,13 @@ struct WcsphPair {
     const T along_v = pair::laminar_viscosity(mu, m, i.inv_rho * i.inv_rho, j.inv_rho * j.inv_rho, F);
 
     Rates<T> out;
-    for (int d = 0; d < Dim; ++d) out.force[d] = along_r * r_ij[d] + along_v * v_ij[d];
+    for (int d = 0; d < Dim; ++d) out.opposite[d] = along_r * r_ij[d] + along_v * v_ij[d];
     const T drho_hydro = -0.5 * (i.hydro_k + j.hydro_k) * g_dot_r;  // rho_j^H - rho_i^H
     const T continuity = pair::continuity(m, F, v_dot_r);
     // Density diffusion acts between fluid particles only.
     const T flux = both_fluid * pair::density_diffusion_flux(delta_h_c0, m, i.rho, j.rho, drho_hydro, F);
-    out.drho_i = continuity + flux * j.inv_rho;
-    out.drho_j = continuity - flux * i.inv_rho;
+    out.to_i[0] = continuity + flux * j.inv_rho;
+    out.to_j[0] = continuity - flux * i.inv_rho;
     const T any_fluid = simd::max(i.fluid, j.fluid);
     out.speed2 = any_fluid * v2;
     out.fluid_r2 = simd::select(any_fluid != 0.0, r2, T(far_r2));

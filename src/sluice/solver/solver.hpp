@@ -16,6 +16,7 @@
 #include "sluice/neighbors/cell_grid.hpp"
 #include "sluice/physics/kernel.hpp"
 #include "sluice/physics/rates.hpp"
+#include "sluice/physics/shifting.hpp"
 
 namespace sluice {
 
@@ -87,6 +88,8 @@ class Solver {
     return case_.integrator == Integrator::predictor_corrector ? 2 : 1;
   }
   [[nodiscard]] int threads() const { return threads_; }
+  // The particle shift of the last step (zone, div r, shift velocity), when shifting is on.
+  [[nodiscard]] const ParticleShifting<Dim>& shifting() const { return shift_; }
   // Combines the sums and maxima of this process's particles with those of the others.
   [[nodiscard]] const Reducer& reducer() const { return *reducer_; }
   [[nodiscard]] Diagnostics diagnostics() const;
@@ -119,8 +122,9 @@ class Solver {
  private:
   void init(const Case& c);
   // Rebuilds the neighbour grid (reordering the particles by cell), applies the Shepard filter when
-  // due and any pending density repairs, and computes the rates.
-  RateSummary evaluate(bool shepard_due, bool mid_step);
+  // due and any pending density repairs, and computes the rates; at the step's last evaluation
+  // (`last`), also the particle shift when it is on.
+  RateSummary evaluate(bool shepard_due, bool mid_step, bool last);
   // This process's maxima and minimum combined with the other processes' (reducer()).
   RateSummary global(const RateSummary& r) const;
   double choose_dt(const RateSummary& r) const;
@@ -134,6 +138,9 @@ class Solver {
   WallTreatment walls_;
   RateSettings<Dim> settings_{};
   ParticleTerms terms_;
+  ShiftingSums shifting_sums_{};
+  ShiftingSettings shifting_{};
+  ParticleShifting<Dim> shift_;
   std::vector<double> scratch_;
   Clock clock_;
   double min_particle_distance_ = std::numeric_limits<double>::quiet_NaN();  // unknown before the first step

@@ -53,6 +53,10 @@ void Solver<Dim>::init(const Case& c) {
   settings_.eos = TaitEos{c.rest_density, c.sound_speed, c.gamma};
   if (c.kernel == KernelType::wendland_c2) kernel_ = WendlandC2<Dim>(h);
   else kernel_ = CubicSpline<Dim>(h);
+  shifting_ = ShiftingSettings{c.shifting, c.free_surface_threshold};
+  shifting_sums_.h = h;
+  shifting_sums_.spacing = c.dx;
+  shifting_sums_.volume = settings_.mass / c.rest_density;
   if (c.wall_boundary == WallBoundary::adami) walls_ = AdamiWalls{};
   else walls_ = DynamicWalls{};
   // The grid covers the tank and its walls with a margin; strays are clamped into edge cells.
@@ -68,7 +72,7 @@ void Solver<Dim>::init(const Case& c) {
 }
 
 template <int Dim>
-RateSummary Solver<Dim>::evaluate(bool shepard_due, bool mid_step) {
+RateSummary Solver<Dim>::evaluate(bool shepard_due, bool mid_step, bool last) {
   grid_.bin(particles_.position, threads_);
   particles_.permute(grid_.order(), scratch_, mid_step, threads_);
   grid_binned_ = true;
@@ -85,6 +89,8 @@ RateSummary Solver<Dim>::evaluate(bool shepard_due, bool mid_step) {
   terms_.compute(particles_, settings_.eos, threads_, settings_.artificial_pressure);
   const RateSummary summary = compute_rates(particles_, grid_, kernel_, walls_, settings_, terms_, threads_);
   std::visit([&](const auto& walls) { walls.after_rates(particles_); }, walls_);
+  if (last && shifting_.coefficient > 0.0)
+    shift_.compute(particles_, grid_, kernel_, shifting_sums_, shifting_, terms_.fluid_mask.data(), threads_);
   return summary;
 }
 
@@ -110,7 +116,8 @@ template <int Dim>
 void Solver<Dim>::step(double time_limit) {
   const bool shepard_due = case_.shepard_every > 0 && clock_.step > 0 && clock_.step % case_.shepard_every == 0;
   has_saved_state_ = false;
-  const RateSummary rates = global(evaluate(shepard_due, false));
+  const bool euler = case_.integrator != Integrator::predictor_corrector;
+  const RateSummary rates = global(evaluate(shepard_due, false, euler));
   min_particle_distance_ = rates.min_fluid_distance;
   saved_clock_ = clock_;
   double dt = choose_dt(rates);
@@ -123,7 +130,7 @@ void Solver<Dim>::step(double time_limit) {
   if (case_.integrator == Integrator::predictor_corrector) {
     predictor_update(particles_, dt, floor, threads_);
     has_saved_state_ = true;
-    evaluate(false, true);
+    evaluate(false, true, true);
     corrector_update(particles_, dt, floor, threads_);
   } else {
     particles_.position_start = particles_.position;
@@ -132,6 +139,7 @@ void Solver<Dim>::step(double time_limit) {
     has_saved_state_ = true;
     euler_update(particles_, dt, floor, threads_);
   }
+  if (shifting_.coefficient > 0.0) shift_.apply(particles_, dt, threads_);
   clock_.leaks += static_cast<std::int64_t>(put_back_leaked(particles_, solids_, case_.dx, threads_));
   clock_.time = reaches_limit ? time_limit : clock_.time + dt;
   clock_.last_dt = dt;
