@@ -1,13 +1,17 @@
-// Geometry: polygons, wall filling, near-coincident removal, hydrostatic start, leak put-back.
+// Geometry: polygons, wall filling, near-coincident removal, hydrostatic start, leak put-back, the
+// ghost nodes of the mDBC walls.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "sluice/case/params.hpp"
 #include "sluice/geometry/box.hpp"
 #include "sluice/geometry/leaks.hpp"
 #include "sluice/geometry/polygon.hpp"
 #include "sluice/geometry/setup.hpp"
+#include "sluice/geometry/wall_ghosts.hpp"
 #include "sluice/physics/eos.hpp"
 
 using namespace sluice;
@@ -63,6 +67,35 @@ TEST(Setup, WaterOverlappingAnObstacleLeavesNoFluidOnAWallPoint) {
   EXPECT_GE(closest, 0.5 * c.dx);
 }
 
+// The hydrostatic start in each lattice column: the k-th fluid particle from the top has the pressure
+// of the water above it, rho0 g (k + 1/2) dx per unit area; the column is squeezed onto its bottom so
+// that each particle's volume m / rho fills the space it has (spacing dx rho0 / rho between
+// neighbours, half of that under the lowest); the bottom edge stays on the floor.
+void expect_hydrostatic_columns(const sluice::Setup<2>& s, const Case& c, std::size_t columns_expected) {
+  const TaitEos eos{c.rest_density, c.sound_speed, c.gamma};
+  const double g = 9.81;
+  std::map<long, std::vector<std::size_t>> columns;
+  for (std::size_t i = 0; i < s.particles.size(); ++i)
+    if (s.particles.is_fluid(i)) columns[std::lround(s.particles.position[0][i] / c.dx - 0.5)].push_back(i);
+  ASSERT_EQ(columns.size(), columns_expected);
+  for (auto& [column, members] : columns) {
+    const auto& y = s.particles.position[1];
+    std::sort(members.begin(), members.end(), [&](std::size_t a, std::size_t b) { return y[a] > y[b]; });
+    for (std::size_t k = 0; k < members.size(); ++k) {
+      const std::size_t i = members[k];
+      const double rho = s.particles.density[i];
+      EXPECT_NEAR(eos.pressure(rho), c.rest_density * g * (k + 0.5) * c.dx, 1e-6) << "column " << column << ", " << k;
+      if (k + 1 < members.size()) {
+        const std::size_t below = members[k + 1];
+        const double mid = eos.density(c.rest_density * g * (k + 1.0) * c.dx);  // at the mass between them
+        EXPECT_NEAR(y[i] - y[below], c.dx * c.rest_density / mid, 1e-4 * c.dx) << "column " << column << ", " << k;
+      }
+    }
+    const double bottom_rho = eos.density(c.rest_density * g * (members.size() - 0.25) * c.dx);
+    EXPECT_NEAR(y[members.back()], 0.5 * c.dx * c.rest_density / bottom_rho, 1e-4 * c.dx) << "column " << column;
+  }
+}
+
 TEST(Setup, HydrostaticStartMatchesTheTaitEquationAtDepth) {
   const Case c = *load_builtin_case("dam_break");
   const sluice::Setup<2> s = build_setup<2>(c);
@@ -72,6 +105,44 @@ TEST(Setup, HydrostaticStartMatchesTheTaitEquationAtDepth) {
     if (!s.particles.is_fluid(i)) continue;
     const double surface = x < 3.0 ? 5.0 : 2.0;
     EXPECT_NEAR(eos.pressure(s.particles.density[i]), c.rest_density * 9.81 * (surface - y), 1e-6) << x << ", " << y;
+    EXPECT_NEAR(std::fmod(y, c.dx), 0.5 * c.dx, 1e-9);  // on the lattice
+  }
+}
+
+TEST(Setup, HydrostaticSqueezeGivesEachParticleTheWeightAboveItAndItsCompressedSpacing) {
+  Case c = *load_builtin_case("dam_break");  // c0 = 20 m/s: the 5 m column is 9 % denser at the bottom
+  c.hydrostatic_squeeze = true;
+  const sluice::Setup<2> s = build_setup<2>(c);
+  expect_hydrostatic_columns(s, c, 100);
+  // The squeezed height of a column H deep: D(H) = int_0^H rho0 / rho(rho0 g s) ds; 4.76 m for the 5 m
+  // column and 1.955 m for the 2 m layer (g H^2 / (2 c0^2) would say 0.31 m and 0.05 m lower: the
+  // Tait equation stiffens as it is compressed).
+  const TaitEos eos{c.rest_density, c.sound_speed, c.gamma};
+  auto squeezed = [&](double depth) {
+    const int n = 100000;
+    double sum = 0.0;
+    for (int k = 0; k < n; ++k) sum += c.rest_density / eos.density(c.rest_density * 9.81 * (k + 0.5) * depth / n);
+    return sum * depth / n;
+  };
+  double top_column = 0.0, top_layer = 0.0;
+  for (std::size_t i = 0; i < s.particles.size(); ++i) {
+    if (!s.particles.is_fluid(i)) continue;
+    const double x = s.particles.position[0][i], y = s.particles.position[1][i];
+    (x < 3.0 ? top_column : top_layer) = std::max(x < 3.0 ? top_column : top_layer, y + 0.5 * c.dx);
+  }
+  EXPECT_NEAR(top_column, squeezed(5.0), 1e-3);
+  EXPECT_NEAR(top_layer, squeezed(2.0), 1e-3);
+  EXPECT_LT(top_column, 4.8);
+}
+
+TEST(Setup, WithoutHydrostaticStartTheWaterStaysOnTheLatticeAtRestDensity) {
+  Case c = *load_builtin_case("dam_break");
+  c.hydrostatic_start = false;
+  const sluice::Setup<2> s = build_setup<2>(c);
+  for (std::size_t i = 0; i < s.particles.size(); ++i) {
+    if (!s.particles.is_fluid(i)) continue;
+    EXPECT_EQ(s.particles.density[i], c.rest_density);
+    EXPECT_NEAR(std::fmod(s.particles.position[1][i], c.dx), 0.5 * c.dx, 1e-9);
   }
 }
 
@@ -175,6 +246,23 @@ TEST(Setup, ThreeDimensionalHydrostaticStartAlongZ) {
   }
 }
 
+TEST(Setup, ThreeDimensionalHydrostaticSqueezeAlongZ) {
+  // Each fluid particle has the weight of the water above it on the lattice, rho0 g (0.5 - z_lattice),
+  // z_lattice its height before the column was squeezed; it moves down by less than g H^2 / (2 c0^2).
+  Case c = box_tank_3d(0.1);
+  c.hydrostatic_squeeze = true;
+  const sluice::Setup<3> s = build_setup<3>(c);
+  const TaitEos eos{c.rest_density, c.sound_speed, c.gamma};
+  for (std::size_t i = 0; i < s.particles.size(); ++i) {
+    if (!s.particles.is_fluid(i)) continue;
+    const double z = s.particles.position[2][i];
+    const double z_lattice = (std::floor(z / c.dx) + 1.0) * c.dx - 0.5 * c.dx;
+    EXPECT_NEAR(eos.pressure(s.particles.density[i]), c.rest_density * 9.81 * (0.5 - z_lattice), 1e-6);
+    EXPECT_LE(z, z_lattice);
+    EXPECT_GT(z, z_lattice - 9.81 * 0.25 / (2.0 * c.sound_speed * c.sound_speed));
+  }
+}
+
 TEST(Leaks, ThreeDimensionalPutBackThroughTheNearestFace) {
   Particles<3> p;
   p.add({0.5, 0.4, -0.03}, Kind::fluid, 1000.0);
@@ -184,4 +272,63 @@ TEST(Leaks, ThreeDimensionalPutBackThroughTheNearestFace) {
   EXPECT_NEAR(p.position[2][0], 0.05, 1e-12);
   EXPECT_NEAR(p.velocity[2][0], 2.0, 1e-12);
   EXPECT_EQ(p.needs_density_repair[0], 1);
+}
+
+// mDBC ghost nodes (geometry/wall_ghosts.hpp): the mirror image of each wall particle through the
+// nearest surface the water touches.
+namespace {
+
+Vec2 ghost_of(const WallGhosts<2>& g, const Particles<2>& p, double x, double y) {
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (!p.is_fluid(i) && std::abs(p.position[0][i] - x) < 1e-9 && std::abs(p.position[1][i] - y) < 1e-9) {
+      EXPECT_TRUE(g.of(p.id[i])) << "no ghost at " << x << ", " << y;
+      return g.node[p.id[i]];
+    }
+  ADD_FAILURE() << "no wall particle at " << x << ", " << y;
+  return {};
+}
+
+}  // namespace
+
+TEST(WallGhosts, MirroredThroughTheNearestWetSurfaceAndThroughCorners) {
+  Case c = *load_builtin_case("dam_break");  // dx = 0.2, three layers
+  c.walls.push_back(Region{Shape::box, {9.0, 0.0, 0.0}, {10.0, 1.0, 0.0}, {}});  // a block on the floor
+  const sluice::Setup<2> s = build_setup<2>(c);
+  const WallGhosts<2> g = wall_ghosts(s.particles, c);
+  auto expect_ghost = [&](double x, double y, double gx, double gy) {
+    const Vec2 ghost = ghost_of(g, s.particles, x, y);
+    EXPECT_NEAR(ghost[0], gx, 1e-9) << "wall particle at " << x << ", " << y;
+    EXPECT_NEAR(ghost[1], gy, 1e-9) << "wall particle at " << x << ", " << y;
+  };
+  expect_ghost(5.1, -0.1, 5.1, 0.1);    // floor: through the floor
+  expect_ghost(5.1, -0.5, 5.1, 0.5);    // its third layer
+  expect_ghost(-0.3, 1.1, 0.3, 1.1);    // left wall
+  expect_ghost(20.1, 3.1, 19.9, 3.1);   // right wall
+  expect_ghost(5.1, 10.1, 5.1, 9.9);    // lid
+  expect_ghost(-0.1, -0.1, 0.1, 0.1);   // the tank's corner: through the corner point
+  expect_ghost(-0.3, -0.1, 0.3, 0.1);
+  expect_ghost(9.1, 0.3, 8.9, 0.3);     // the block: through its near face, not the covered bottom
+  expect_ghost(9.3, 0.3, 8.7, 0.3);     // equally near the bottom, which the floor covers
+  expect_ghost(9.5, 0.9, 9.5, 1.1);     // through its top
+  expect_ghost(8.9, -0.1, 8.9, 0.1);    // the floor in front of the block
+  expect_ghost(9.1, -0.1, 8.9, 0.1);    // the floor under the block's edge: through the corner at its foot
+}
+
+TEST(WallGhosts, ThreeDimensionalTankMirrorsThroughItsFacesEdgesAndCorners) {
+  const Case c = box_tank_3d(0.1);
+  const sluice::Setup<3> s = build_setup<3>(c);
+  const WallGhosts<3> g = wall_ghosts(s.particles, c);
+  std::size_t walls = 0;
+  for (std::size_t i = 0; i < s.particles.size(); ++i) {
+    if (s.particles.is_fluid(i)) continue;
+    ++walls;
+    ASSERT_TRUE(g.of(s.particles.id[i]));
+    // The midpoint of particle and ghost is the nearest point of the tank's inside.
+    const Vec<3> size{c.tank_width, c.tank_depth, c.tank_height};
+    for (int d = 0; d < 3; ++d) {
+      const double x = s.particles.position[d][i];
+      EXPECT_NEAR(0.5 * (x + g.node[s.particles.id[i]][d]), std::clamp(x, 0.0, size[d]), 1e-9);
+    }
+  }
+  EXPECT_GT(walls, 0u);
 }

@@ -1,6 +1,8 @@
 // Adami, Hu & Adams (2012) wall pressure extrapolation (physics/wall_boundary.hpp): a wall under still
 // water with hydrostatic pressure gets the hydrostatic pressure at its own position; negative values are
 // clamped; a wall particle with no fluid around it is at p = 0, rho = rho0; the EOS inversion round-trips.
+// The mDBC walls (physics/mdbc.hpp) on the same scenes: the hydrostatic pressure at every layer from the
+// mirror images, no slip and free slip, the rho0 floor and the cap on the extrapolation.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,6 +11,7 @@
 #include "sluice/neighbors/cell_grid.hpp"
 #include "sluice/physics/eos.hpp"
 #include "sluice/physics/kernel.hpp"
+#include "sluice/physics/mdbc.hpp"
 #include "sluice/physics/wall_boundary.hpp"
 
 using namespace sluice;
@@ -134,4 +137,98 @@ TEST(WallBoundary, TaitInversionRoundTrips) {
     EXPECT_NEAR(eos.pressure(rho), p, 1e-9 * eos.stiffness());
   }
   for (double rho : {990.0, 1000.0, 1003.0, 1050.0}) EXPECT_NEAR(eos.density(eos.pressure(rho)), rho, 1e-9 * rho);
+}
+
+namespace {
+
+// The floor's mirror images: the wall particle at (x, y < 0) has its ghost at (x, -y).
+WallGhosts<2> floor_ghosts(const Particles<2>& p) {
+  WallGhosts<2> g;
+  g.node.resize(p.size());
+  g.has.assign(p.size(), 0);
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (!p.is_fluid(i) && p.position[1][i] < 0.0) {
+      g.node[p.id[i]] = {p.position[0][i], -p.position[1][i]};
+      g.has[p.id[i]] = 1;
+    }
+  return g;
+}
+
+constexpr double mass = rho0 * dx * dx;
+
+MdbcWalls mdbc_of(const Scene& s, WallSlip slip) { return MdbcWalls::of(floor_ghosts(s.p), mass, slip); }
+
+}  // namespace
+
+TEST(Mdbc, EveryWallLayerUnderStillWaterGetsTheHydrostaticPressureAtItsPosition) {
+  Scene s = make_scene(hydrostatic_density, 3, false);
+  mdbc_of(s, WallSlip::free_slip).before_rates(s.p, s.grid, kernel, eos, {0.0, -g}, 1);
+  int checked = 0;
+  for (std::size_t i = 0; i < s.p.size(); ++i) {
+    const double x = s.p.position[0][i], y = s.p.position[1][i];
+    if (s.p.is_fluid(i) || x < 0.2 || x > 0.8) continue;
+    const double expected = rho0 * g * (depth - y);
+    EXPECT_NEAR(eos.pressure(s.p.density[i]), expected, 0.001 * expected) << "wall particle at (" << x << ", " << y << ")";
+    EXPECT_NEAR(s.p.velocity[0][i], 0.0, 1e-12);
+    ++checked;
+  }
+  EXPECT_EQ(checked, 3 * 30);  // all three layers, where Adami's reaches two
+}
+
+TEST(Mdbc, NoSlipReversesTheWaterVelocityFreeSlipOnlyItsNormalPart) {
+  for (WallSlip slip : {WallSlip::no_slip, WallSlip::free_slip}) {
+    Scene s = make_scene(hydrostatic_density, 3, false);
+    for (std::size_t i = 0; i < s.p.size(); ++i)
+      if (s.p.is_fluid(i)) s.p.velocity[0][i] = 1.0, s.p.velocity[1][i] = -0.5;
+    mdbc_of(s, slip).before_rates(s.p, s.grid, kernel, eos, {0.0, -g}, 1);
+    for (std::size_t i = 0; i < s.p.size(); ++i) {
+      if (s.p.is_fluid(i) || s.p.position[0][i] < 0.2 || s.p.position[0][i] > 0.8) continue;
+      EXPECT_NEAR(s.p.velocity[0][i], slip == WallSlip::no_slip ? -1.0 : 1.0, 1e-12);
+      EXPECT_NEAR(s.p.velocity[1][i], 0.5, 1e-12);  // the normal part mirrored in both
+    }
+  }
+}
+
+TEST(Mdbc, WaterInTensionLeavesTheWallAtRestDensityAndAFarWallAtRestToo) {
+  Scene s = make_scene([](double) { return 0.99 * rho0; }, 2, true, 1020.0);
+  mdbc_of(s, WallSlip::free_slip).before_rates(s.p, s.grid, kernel, eos, {0.0, 0.0}, 1);
+  for (std::size_t i = 0; i < s.p.size(); ++i) {
+    if (s.p.is_fluid(i)) continue;
+    EXPECT_EQ(s.p.density[i], rho0);  // the fit reads 0.99 rho0; a wall never pulls
+    if (s.p.position[1][i] > depth) {
+      EXPECT_EQ(s.p.velocity[1][i], 0.0);  // no ghost: at rest
+    }
+  }
+}
+
+TEST(Mdbc, TheExtrapolationIsCappedAtTheDensestWaterPlusTheHydrostaticRise) {
+  // Density falling steeply with height, 10 % over 0.1 m: the linear fit at the ghost extrapolates
+  // far above anything in the water; the wall takes the cap instead.
+  Scene s = make_scene([](double y) { return 1100.0 - 1000.0 * y; }, 3, false);
+  mdbc_of(s, WallSlip::free_slip).before_rates(s.p, s.grid, kernel, eos, {0.0, -g}, 1);
+  int capped = 0;
+  for (std::size_t i = 0; i < s.p.size(); ++i) {
+    const double x = s.p.position[0][i], y = s.p.position[1][i];
+    if (s.p.is_fluid(i) || x < 0.2 || x > 0.8) continue;
+    // The densest water within 2h of the ghost (x, -y) is its lowest row, at y = dx/2.
+    const double densest = 1100.0 - 1000.0 * 0.5 * dx;
+    const double cap = densest + rho0 * g * (2.0 * -y) / (eos.sound_speed * eos.sound_speed);
+    EXPECT_LE(s.p.density[i], cap + 1e-9);
+    if (y < -2.0 * dx) {
+      EXPECT_NEAR(s.p.density[i], cap, 1e-9);  // the fit would give 1100 + 1000 * 2.5 dx = 1150
+      ++capped;
+    }
+  }
+  EXPECT_EQ(capped, 30);
+}
+
+TEST(Mdbc, ResultsDoNotDependOnTheThreadCount) {
+  Scene one = make_scene(hydrostatic_density, 3, true);
+  Scene two = make_scene(hydrostatic_density, 3, true);
+  for (Scene* s : {&one, &two})
+    for (std::size_t i = 0; i < s->p.size(); ++i) s->p.velocity[0][i] = std::sin(7.0 * s->p.position[1][i]);
+  mdbc_of(one, WallSlip::no_slip).before_rates(one.p, one.grid, kernel, eos, {0.0, -g}, 1);
+  mdbc_of(two, WallSlip::no_slip).before_rates(two.p, two.grid, kernel, eos, {0.0, -g}, 2);
+  EXPECT_EQ(one.p.density, two.p.density);
+  EXPECT_EQ(one.p.velocity[0], two.p.velocity[0]);
 }

@@ -20,8 +20,10 @@ using Vec3 = Vec<3>;
 enum class KernelType { cubic_spline, wendland_c2 };
 inline constexpr std::array<std::string_view, 2> kernel_type_names = {"cubic_spline", "wendland_c2"};
 
-enum class WallBoundary { dynamic, adami };
-inline constexpr std::array<std::string_view, 2> wall_boundary_names = {"dynamic", "adami"};
+enum class WallBoundary { dynamic, adami, mdbc };
+inline constexpr std::array<std::string_view, 3> wall_boundary_names = {"dynamic", "adami", "mdbc"};
+enum class WallSlip { no_slip, free_slip };
+inline constexpr std::array<std::string_view, 2> wall_slip_names = {"no_slip", "free_slip"};
 
 enum class Integrator { predictor_corrector, euler };
 inline constexpr std::array<std::string_view, 2> integrator_names = {"predictor_corrector", "euler"};
@@ -91,8 +93,10 @@ struct Case {
   double density_diffusion = 0.0;     // delta-SPH delta
   int shepard_every = 0;              // steps between Shepard density filters (0 = off)
   bool hydrostatic_start = true;
+  bool hydrostatic_squeeze = false;  // and the water squeezed to its hydrostatic density (geometry/setup.cpp)
   double initial_pressure = 0.0;      // added to the water's initial pressure
   WallBoundary wall_boundary = WallBoundary::dynamic;
+  WallSlip wall_slip = WallSlip::free_slip;  // mdbc walls
   double shifting = 0.0;                // particle shifting coefficient A; 0 = off
   double free_surface_threshold = 0.0;  // div r below which a fluid particle is on the free surface
 

@@ -134,12 +134,22 @@ const std::vector<Param<Case>>& case_params() {
               "(see the tension case)."),
       declare("physics.hydrostatic_start", &Case::hydrostatic_start, "", true, unbounded_lower, unbounded_upper,
               "Start water (and the walls under it) at hydrostatic density, so water at rest stays at rest."),
+      declare("physics.hydrostatic_squeeze", &Case::hydrostatic_squeeze, "", false, unbounded_lower, unbounded_upper,
+              "With hydrostatic_start: also squeeze each column of water onto its bottom to the spacing of its "
+              "density, so that m / rho is each particle's volume and still water's pressure gradient is rho g "
+              "instead of about 2 % steeper (see README \"Physics\"); it stirs the water beside the side walls."),
       declare_choice<&Case::wall_boundary>(
               "physics.wall_boundary", WallBoundary::dynamic, wall_boundary_names,
               "Wall treatment: dynamic (wall particles' density evolves by the continuity equation like the fluid's) "
               "or adami (Adami, Hu & Adams 2012: wall pressure extrapolated from the fluid before each force "
               "evaluation, hydrostatic term included, negative values clamped to 0; free slip: no artificial "
-              "viscosity between fluid and wall)."),
+              "viscosity between fluid and wall) or mdbc (English et al. 2022: wall density from a first-order fit to the "
+              "water at each wall particle's mirror image through the wall surface, held at rho0 or above)."),
+      declare_choice<&Case::wall_slip>(
+              "physics.wall_slip", WallSlip::free_slip, wall_slip_names,
+              "For mdbc walls: free_slip (the wall particles take the tangential part of the water's velocity at their "
+              "mirror image and minus its normal part) or no_slip (minus all of it, so the velocity vanishes at the "
+              "surface; with the artificial viscosity this is a strong wall friction: see README)."),
       declare("physics.shifting", &Case::shifting, "", 0.0, 0.0, 10.0,
               "Particle shifting coefficient A (0 = off): each step moves every fluid particle by "
               "-A h |v| dt grad C (Lind et al. 2012, Skillen et al. 2013, with the anti-clumping weight of Sun et al. "

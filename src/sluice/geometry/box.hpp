@@ -10,6 +10,21 @@
 
 namespace sluice {
 
+// The point of each face of the box [lower, upper] nearest to x (x clamped into the face); a face at
+// an infinite bound is skipped.
+template <int Dim, class F>
+void for_each_box_face_point(const Vec<Dim>& lower, const Vec<Dim>& upper, const Vec<Dim>& x, F&& f) {
+  Vec<Dim> clamped{};
+  for (int d = 0; d < Dim; ++d) clamped[d] = std::clamp(x[d], lower[d], upper[d]);
+  for (int d = 0; d < Dim; ++d)
+    for (double face : {lower[d], upper[d]}) {
+      if (!std::isfinite(face)) continue;
+      Vec<Dim> q = clamped;
+      q[d] = face;
+      f(q);
+    }
+}
+
 template <int Dim>
 class Box final : public Solid<Dim> {
  public:
@@ -57,6 +72,10 @@ class Box final : public Solid<Dim> {
     s.normal = Vec<Dim>{};
     s.normal[axis] = high ? 1.0 : -1.0;
     return s;
+  }
+
+  void for_each_face_point(const Vec<Dim>& x, const std::function<void(const Vec<Dim>&)>& f) const override {
+    for_each_box_face_point<Dim>(lower_, upper_, x, f);
   }
 
   [[nodiscard]] Vec<Dim> lower() const override { return lower_; }

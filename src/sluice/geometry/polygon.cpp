@@ -53,6 +53,11 @@ Vec2 Polygon::closest_boundary_point(Vec2 p) const {
   return best;
 }
 
+void Polygon::for_each_face_point(const Vec2& p, const std::function<void(const Vec2&)>& f) const {
+  const std::size_t n = points.size();
+  for (std::size_t i = 0, j = n - 1; i < n; j = i++) f(closest_on_segment(p, points[j], points[i]));
+}
+
 double Polygon::distance_to_boundary(Vec2 p) const { return norm(closest_boundary_point(p) - p); }
 
 double Polygon::signed_distance(const Vec2& p) const {

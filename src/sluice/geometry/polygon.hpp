@@ -19,6 +19,7 @@ class Polygon final : public Solid<2> {
   [[nodiscard]] double signed_distance(const Vec2& p) const override;
   // The outward normal is along the line from p to the closest point (p inside) or back (p outside).
   [[nodiscard]] SurfacePoint<2> closest_surface_point(const Vec2& p) const override;
+  void for_each_face_point(const Vec2& p, const std::function<void(const Vec2&)>& f) const override;
   [[nodiscard]] Vec2 lower() const override;  // bounding box
   [[nodiscard]] Vec2 upper() const override;
   // Rows parallel to each edge, and arcs around each reflex corner (see polygon.cpp).

@@ -111,6 +111,37 @@ std::vector<std::array<long, Dim - 1>> ring(long off) {
   }
 }
 
+// The water compressed under its own weight (physics.hydrostatic_squeeze). The lattice places the fluid
+// at the spacing of water at rest (rho0), while the hydrostatic start gives it the density of the
+// depth; left so, the particles' volumes m / rho do not tile the space they fill, and the discrete
+// momentum equation balances gravity with a pressure gradient too steep by about 3 p / (rho0 c0^2)
+// (2 % in 1 m of water at c0 = 30 m/s; measured, README "Physics"). Squeezed, each contiguous run of
+// fluid in a lattice column is moved down onto its lowest point: a particle whose mass coordinate (depth on the lattice) is mu
+// moves to the depth D(mu) = int_0^mu rho0 / rho(rho0 g s) ds below the run's compressed top, the
+// closed form of the Tait equation. The mass is kept and the bottom stays where it was; the top comes
+// down by about g H^2 / (2 c0^2).
+template <int Dim, class Column, class ColumnOf>
+void compress_columns(Particles<Dim>& p, const Case& c, const std::map<Column, double>& surface, ColumnOf&& column) {
+  constexpr int up = Dim - 1;
+  const TaitEos eos{c.rest_density, c.sound_speed, c.gamma};
+  const double a = c.rest_density * -c.gravity[up] / eos.stiffness(), k = 1.0 - 1.0 / c.gamma;
+  auto compressed_depth = [&](double mu) { return mu <= 0.0 ? mu : (std::pow(1.0 + a * mu, k) - 1.0) / (a * k); };
+  std::map<Column, std::vector<std::size_t>> columns;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (p.is_fluid(i)) columns[column(i)].push_back(i);
+  for (auto& [col, members] : columns) {
+    std::sort(members.begin(), members.end(), [&](std::size_t i, std::size_t j) { return p.position[up][i] < p.position[up][j]; });
+    const double top = surface.at(col);
+    std::vector<double> z(members.size());
+    for (std::size_t n = 0; n < members.size(); ++n) z[n] = p.position[up][members[n]];
+    double bottom = 0.0;  // the lowest edge of the current run, which stays
+    for (std::size_t n = 0; n < members.size(); ++n) {
+      if (n == 0 || z[n] - z[n - 1] > 1.5 * c.dx) bottom = z[n] - 0.5 * c.dx;
+      p.position[up][members[n]] = bottom + compressed_depth(top - bottom) - compressed_depth(top - z[n]);
+    }
+  }
+}
+
 }  // namespace
 
 template <int Dim>
@@ -207,6 +238,7 @@ void set_hydrostatic_density(Particles<Dim>& p, const Case& c) {
     const double depth = it->second - p.position[up][i];
     if (depth > 0.0) p.density[i] = eos.density(c.rest_density * g * depth);
   }
+  if (c.hydrostatic_squeeze) compress_columns(p, c, surface, column);
 }
 
 template <int Dim>

@@ -31,6 +31,9 @@ class Solid {
   // Bounding box.
   [[nodiscard]] virtual Vec<Dim> lower() const = 0;
   [[nodiscard]] virtual Vec<Dim> upper() const = 0;
+  // Calls f(q) with the point q of each face (an edge in 2D) nearest to x: the candidates for the
+  // nearest point of the surface that water touches, where a face may be covered by another solid.
+  virtual void for_each_face_point(const Vec<Dim>& x, const std::function<void(const Vec<Dim>&)>& f) const = 0;
   // Calls add(x) for the wall particles of the solid: points inside it, in `layers` layers spaced dx
   // below its surface (the first at dx/2), about dx apart along it.
   virtual void fill_surface_layers(double dx, int layers, const std::function<void(const Vec<Dim>&)>& add) const = 0;

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include "sluice/core/linear_fit.hpp"
 #include "sluice/io/atomic_file.hpp"
 
 namespace sluice {
@@ -23,82 +24,47 @@ std::string probe_header(const Probe& probe, int dimension) {
 namespace {
 
 // The pressure interpolated at x from the particles within the kernel support: the fluid's, and the
-// wall particles' where the wall treatment gives them the wall's pressure (Adami). Shepard: the kernel
-// average normalised by its weights. Linear: the value at x of the linear function a + b . (x_j - x)
-// fitted to the neighbours' pressures by least squares with the weights V_j W_ij (first order: exact
-// for a linear pressure field, hydrostatic pressure included, even where the neighbours lie on one
-// side, as at a wall); Shepard where the fit is ill-posed (fewer neighbours than unknowns, or in a
-// line). `neighbours` counts the particles used. No neighbours: 0.
+// wall particles' where the wall treatment gives them the wall's pressure (Adami, mDBC). Shepard: the
+// kernel average normalised by its weights. Linear: the first-order fit of core/linear_fit.hpp to the
+// neighbours' pressures with the weights V_j W_ij (exact for a linear pressure field, hydrostatic
+// pressure included, even where the neighbours lie on one side, as at a wall); Shepard where the fit
+// is ill-posed (fewer neighbours than unknowns, or in a line). `neighbours` counts the particles used. No neighbours: 0.
 template <int Dim, class Kernel>
 double interpolated_pressure(const Solver<Dim>& solver, const Kernel& kernel, const Vec<Dim>& at,
                              ProbeCorrection correction, bool with_walls, std::int64_t& neighbours) {
   const Particles<Dim>& p = solver.particles();
   const double support = Kernel::support * kernel.h, inv_h = 1.0 / kernel.h;
-  constexpr int M = Dim + 1;
-  // Weighted moments, in units of h: m[a][b] = sum w y_a y_b with y = (1, (x_j - x)/h); f[a] = sum w p y_a.
-  std::array<std::array<double, M>, M> m{};
-  std::array<double, M> f{};
+  LinearFit<Dim> fit;
   neighbours = 0;
   Vec<Dim> lower = at, upper = at;
   for (int d = 0; d < Dim; ++d) lower[d] -= support, upper[d] += support;
   solver.for_each_range_in_box(lower, upper, [&](std::uint32_t begin, std::uint32_t end) {
     for (std::uint32_t i = begin; i < end; ++i) {
       if (!p.is_fluid(i) && !with_walls) continue;
-      std::array<double, M> y{1.0};
+      std::array<double, Dim> y{};
       double r2 = 0.0;
       for (int d = 0; d < Dim; ++d) {
         const double r = p.position[d][i] - at[d];
         r2 += r * r;
-        y[d + 1] = r * inv_h;
+        y[d] = r * inv_h;
       }
       if (r2 >= support * support) continue;
       const double w = kernel.value(std::sqrt(r2)) * solver.particle_mass() / p.density[i];
-      const double pressure = solver.eos().pressure(p.density[i]);
-      for (int a = 0; a < M; ++a) {
-        f[a] += w * pressure * y[a];
-        for (int b = 0; b < M; ++b) m[a][b] += w * y[a] * y[b];
-      }
+      fit.add(w, y, solver.eos().pressure(p.density[i]));
       ++neighbours;
     }
   });
   // Every process's neighbours (the fit is over all of them).
   const Reducer& all = solver.reducer();
-  for (int a = 0; a < M; ++a) {
-    f[a] = all.sum(f[a]);
-    for (int b = 0; b < M; ++b) m[a][b] = all.sum(m[a][b]);
+  for (int a = 0; a < LinearFit<Dim>::M; ++a) {
+    fit.rhs[a] = all.sum(fit.rhs[a]);
+    for (int b = 0; b < LinearFit<Dim>::M; ++b) fit.moments[a][b] = all.sum(fit.moments[a][b]);
   }
   neighbours = all.sum(neighbours);
-  if (!(m[0][0] > 0.0)) return 0.0;
-  const double shepard = f[0] / m[0][0];
-  if (correction == ProbeCorrection::shepard || neighbours < M) return shepard;
-  // Gaussian elimination with partial pivoting on the moments normalised by the weight sum; a pivot
-  // below `tiny` means the neighbours do not span the space (in a line, or a single point).
-  constexpr double tiny = 1e-6;
-  const double weight = m[0][0];
-  for (int a = 0; a < M; ++a) {
-    f[a] /= weight;
-    for (int b = 0; b < M; ++b) m[a][b] /= weight;
-  }
-  for (int c = 0; c < M; ++c) {
-    int pivot = c;
-    for (int a = c + 1; a < M; ++a)
-      if (std::abs(m[a][c]) > std::abs(m[pivot][c])) pivot = a;
-    if (std::abs(m[pivot][c]) < tiny) return shepard;
-    std::swap(m[c], m[pivot]);
-    std::swap(f[c], f[pivot]);
-    for (int a = c + 1; a < M; ++a) {
-      const double factor = m[a][c] / m[c][c];
-      for (int b = c; b < M; ++b) m[a][b] -= factor * m[c][b];
-      f[a] -= factor * f[c];
-    }
-  }
-  std::array<double, M> coef{};
-  for (int a = M - 1; a >= 0; --a) {
-    double rest = f[a];
-    for (int b = a + 1; b < M; ++b) rest -= m[a][b] * coef[b];
-    coef[a] = rest / m[a][a];
-  }
-  return coef[0];
+  if (!(fit.weight() > 0.0)) return 0.0;
+  if (correction == ProbeCorrection::shepard || neighbours < LinearFit<Dim>::M) return fit.shepard();
+  const auto coef = fit.solve();
+  return coef ? (*coef)[0] : fit.shepard();
 }
 
 // Where a pressure sensor of diameter `size` centred at `at` samples: points about dx/4 apart over a
@@ -147,7 +113,7 @@ std::vector<Vec<Dim>> sensor_points(const Solver<Dim>& solver, const Vec<Dim>& a
 template <int Dim>
 std::vector<double> pressure_at(const Probe& probe, const Solver<Dim>& solver) {
   const Vec<Dim> at = first<Dim>(probe.point);
-  const bool with_walls = solver.config().wall_boundary == WallBoundary::adami;
+  const bool with_walls = solver.config().wall_boundary != WallBoundary::dynamic;
   const std::vector<Vec<Dim>> points = sensor_points<Dim>(solver, at, probe.size);
   return std::visit(
       [&](const auto& kernel) -> std::vector<double> {

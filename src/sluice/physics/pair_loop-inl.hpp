@@ -325,7 +325,7 @@ void shepard_loop(Particles<Dim>& p, const CellGrid<Dim>& grid, double h, double
 template <int Dim, std::size_t K, std::size_t W>
 void add_rate_loops(DimensionLoops<Dim>& loops) {
   using Kernel = std::variant_alternative_t<K, AnyKernel<Dim>>;
-  using Walls = std::variant_alternative_t<W, WallTreatment>;
+  using Walls = std::variant_alternative_t<W, PairWallTraits>;
   loops.rates[K][W][0] = &rate_loop<Dim, Kernel, Walls, false>;
   loops.rates[K][W][1] = &rate_loop<Dim, Kernel, Walls, true>;
   if constexpr (W == 0) {
@@ -342,7 +342,7 @@ void add_kernel_loops(DimensionLoops<Dim>& loops, std::index_sequence<W...>) {
 template <int Dim, std::size_t... K>
 DimensionLoops<Dim> dimension_loops(std::index_sequence<K...>) {
   DimensionLoops<Dim> loops{};
-  (add_kernel_loops<Dim, K>(loops, std::make_index_sequence<kWallTreatments>{}), ...);
+  (add_kernel_loops<Dim, K>(loops, std::make_index_sequence<kPairWallTraits>{}), ...);
   return loops;
 }
 

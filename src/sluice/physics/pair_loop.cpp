@@ -79,7 +79,7 @@ RateSummary compute_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const An
                           int threads) {
   const bool with_artificial_pressure = settings.artificial_pressure > 0.0;
   const RateLoop<Dim> loop =
-      loops().template of<Dim>().rates[kernel.index()][walls.index()][with_artificial_pressure ? 1 : 0];
+      loops().template of<Dim>().rates[kernel.index()][pair_traits_index(walls)][with_artificial_pressure ? 1 : 0];
   return loop(p, grid, settings, terms, threads);
 }
 

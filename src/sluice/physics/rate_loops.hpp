@@ -1,6 +1,6 @@
 // The table of compiled pair loops of one instruction set (physics/pair_loop-inl.hpp builds one per
-// target; physics/pair_loop.cpp picks the CPU's best): a function per dimension, kernel, wall
-// treatment and artificial-pressure switch, and a Shepard filter and the sums of particle shifting
+// target; physics/pair_loop.cpp picks the CPU's best): a function per dimension, kernel, wall pair
+// traits and artificial-pressure switch, and a Shepard filter and the sums of particle shifting
 // per dimension and kernel.
 #pragma once
 
@@ -14,7 +14,7 @@
 namespace sluice {
 
 inline constexpr std::size_t kKernels = std::variant_size_v<AnyKernel<2>>;
-inline constexpr std::size_t kWallTreatments = std::variant_size_v<WallTreatment>;
+inline constexpr std::size_t kPairWallTraits = std::variant_size_v<PairWallTraits>;
 
 template <int Dim>
 using RateLoop = RateSummary (*)(Particles<Dim>&, const CellGrid<Dim>&, const RateSettings<Dim>&,
@@ -29,7 +29,7 @@ using ShiftingLoop = void (*)(const Particles<Dim>&, const CellGrid<Dim>&, const
 
 template <int Dim>
 struct DimensionLoops {
-  RateLoop<Dim> rates[kKernels][kWallTreatments][2];  // [kernel][walls][with artificial pressure]
+  RateLoop<Dim> rates[kKernels][kPairWallTraits][2];  // [kernel][wall pair traits][with artificial pressure]
   ShepardLoop<Dim> shepard[kKernels];
   ShiftingLoop<Dim> shifting[kKernels];
 };

@@ -4,7 +4,8 @@
 // WallTreatment (physics/pair_loop.cpp).
 //
 // A new wall treatment is a policy here, an alternative of WallTreatment (and of the case's
-// WallBoundary choice), and — if it changes a pair term — its trait read in wcsph_pair-inl.hpp.
+// WallBoundary choice), and — if it changes a pair term — its trait in WallPairTraits, read in
+// wcsph_pair-inl.hpp.
 #pragma once
 
 #include <type_traits>
@@ -14,6 +15,7 @@
 #include "sluice/core/vec.hpp"
 #include "sluice/neighbors/cell_grid.hpp"
 #include "sluice/physics/eos.hpp"
+#include "sluice/physics/mdbc.hpp"
 #include "sluice/physics/wall_boundary.hpp"
 
 namespace sluice {
@@ -49,7 +51,21 @@ struct AdamiWalls {
   }
 };
 
-// In the order of the case's WallBoundary choices.
-using WallTreatment = std::variant<DynamicWalls, AdamiWalls>;
+// In the order of the case's WallBoundary choices; mDBC is in physics/mdbc.hpp.
+using WallTreatment = std::variant<DynamicWalls, AdamiWalls, MdbcWalls>;
+
+// What the pair interaction reads of a wall treatment. The pair loop is compiled once per set of
+// these traits, not once per treatment: mDBC's pairs are the dynamic boundary's.
+template <bool FluidWallViscosity>
+struct WallPairTraits {
+  static constexpr bool fluid_wall_viscosity = FluidWallViscosity;
+};
+using PairWallTraits = std::variant<WallPairTraits<true>, WallPairTraits<false>>;
+
+// The index in PairWallTraits of a treatment's traits.
+inline std::size_t pair_traits_index(const WallTreatment& walls) {
+  return std::visit([](const auto& w) -> std::size_t { return std::decay_t<decltype(w)>::fluid_wall_viscosity ? 0 : 1; },
+                    walls);
+}
 
 }  // namespace sluice

@@ -110,7 +110,11 @@ struct WcsphPair {
     Rates<T> out;
     for (int d = 0; d < Dim; ++d) out.opposite[d] = along_r * r_ij[d] + along_v * v_ij[d];
     const T drho_hydro = -0.5 * (i.hydro_k + j.hydro_k) * g_dot_r;  // rho_j^H - rho_i^H
-    const T continuity = pair::continuity(m, F, v_dot_r);
+    // The continuity equation sees the walls at rest, as they are: the velocity a wall treatment gives
+    // its particles (mDBC's no slip or free slip, physics/mdbc.hpp) is for the viscous terms only.
+    T rest_v_dot_r = (i.fluid * i.v[0] - j.fluid * j.v[0]) * r_ij[0];
+    for (int d = 1; d < Dim; ++d) rest_v_dot_r = rest_v_dot_r + (i.fluid * i.v[d] - j.fluid * j.v[d]) * r_ij[d];
+    const T continuity = pair::continuity(m, F, rest_v_dot_r);
     // Density diffusion acts between fluid particles only.
     const T flux = both_fluid * pair::density_diffusion_flux(delta_h_c0, m, i.rho, j.rho, drho_hydro, F);
     out.to_i[0] = continuity + flux * j.inv_rho;

@@ -58,6 +58,7 @@ void Solver<Dim>::init(const Case& c) {
   shifting_sums_.spacing = c.dx;
   shifting_sums_.volume = settings_.mass / c.rest_density;
   if (c.wall_boundary == WallBoundary::adami) walls_ = AdamiWalls{};
+  else if (c.wall_boundary == WallBoundary::mdbc) walls_ = MdbcWalls::of(wall_ghosts(particles_, c), settings_.mass, c.wall_slip);
   else walls_ = DynamicWalls{};
   // The grid covers the tank and its walls with a margin; strays are clamped into edge cells.
   const int layers = wall_layers(c);
