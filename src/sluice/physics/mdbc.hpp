@@ -16,7 +16,9 @@
 // around it. rho_w is held at rho0 or
 // above, so that a wall never pulls water onto itself (English et al. likewise).
 //
-// The wall velocity enters the viscous terms and the continuity equation. From the Shepard average
+// The wall velocity enters the viscous terms only (the continuity equation sees the walls at rest;
+// with the mirrored velocity there too, the ghost-fluid way, the obstacle case ran to its end but still
+// water settled 0.5 % denser at the floor — README "Wall treatment"). From the Shepard average
 // v_g of the fluid velocity at the ghost: no slip, v_w = -v_g (the velocity vanishes at the surface,
 // halfway between ghost and wall particle); free slip, v_w = v_g - 2 (v_g . n) n (the tangential
 // velocity carries over, the normal one is mirrored), n the unit normal along x_g - x_w.
@@ -109,8 +111,8 @@ GhostReading<Dim> read_ghost(const Particles<Dim>& p, const CellGrid<Dim>& grid,
 struct MdbcWalls {
   // The artificial viscosity acts between water and wall as between water particles, on the wall
   // velocity the slip condition gives. With no slip it so becomes a wall friction far above water's
-  // (measured in `sluice validate`: the Buchner front reaches the far wall at t* = 3.1 instead of
-  // 2.5); without it between water and wall, the wall pressure is noisier (Buchner RMS 0.33 against
+  // (measured in `sluice validate`: the Buchner impact at t* = 3.69 instead of the data's 2.51);
+  // without it between water and wall, the wall pressure is noisier (Buchner RMS 0.33 against
   // 0.27 with free slip). Free slip is the default.
   static constexpr bool fluid_wall_viscosity = true;
 
