@@ -5,6 +5,8 @@
 //   martin_moyce   surge front Z(T) and residual column height H(tau) against Martin & Moyce (1952)
 //   koshizuka_oka  surge front Z(T) against Koshizuka & Oka (1996)
 //   buchner        far-wall pressure p*(t*) at 0.2H against Buchner (2002), and the impact time
+//   spheric2       (3D, --3d) pressures P1-P4 on a box obstacle and water levels H2, H4 against
+//                  Kleefsman et al. (2005), SPHERIC test 2; P1's impact time (analysis/spheric2.cpp)
 //
 // Fronts are the furthest fluid particle's centre plus dx/2, its edge: the initial front, a particle
 // centre dx/2 inside the column, is then at Z = 1 exactly, as in the experiments' scaling.
@@ -67,6 +69,7 @@ struct ValidationBounds {
   double buchner_pressure_rms;  // Buchner probe, RMS dp* for 2 <= t* <= 7
   double buchner_plateau_rms;   // Buchner probe, RMS dp* for 3.5 <= t* <= 5.5 (0: reported only)
   double buchner_impact;      // |impact time - data's| in t*
+  double spheric2_impact;     // |P1 impact time - data's| in s
 };
 ValidationBounds full_bounds();
 ValidationBounds quick_bounds();
@@ -78,6 +81,10 @@ double quick_resolution(const std::string& case_name);
 ValidationResult evaluate_martin_moyce(const Case& c, const std::filesystem::path& run_dir, const ValidationBounds& b);
 ValidationResult evaluate_koshizuka_oka(const Case& c, const std::filesystem::path& run_dir, const ValidationBounds& b);
 ValidationResult evaluate_buchner(const Case& c, const std::filesystem::path& run_dir, const ValidationBounds& b);
+ValidationResult evaluate_spheric2(const Case& c, const std::filesystem::path& run_dir, const ValidationBounds& b);
+
+// The physics options of a case in one line, for the report.
+std::string settings_of(const Case& c);
 
 // The impact time: the first time a pressure signal reaches `level` (p*), interpolated.
 inline constexpr double impact_pressure_level = 0.25;
@@ -87,7 +94,8 @@ struct ValidationOptions {
   std::filesystem::path output_dir;        // holds report.html, validation.csv and runs/<case>/
   int threads = 1;
   RunOptions::Progress progress = RunOptions::Progress::none;
-  std::vector<std::string> cases;          // empty: all
+  std::vector<std::string> cases;          // empty: the 2D cases, and with `three_d` the 3D one
+  bool three_d = false;                    // also the 3D case (spheric2)
   std::vector<std::string> sets;           // key=value overrides applied to every case (after --quick's dx)
   std::string command_line;                // recorded in the report
 };
@@ -98,8 +106,10 @@ struct ValidationReport {
   [[nodiscard]] bool passed() const;
 };
 
-// The case names validate runs, in report order.
+// The case names validate can run, in report order: the 2D cases, then the 3D one.
 const std::vector<std::string>& validation_case_names();
+// Those that run by default (2D); --3d adds spheric2.
+const std::vector<std::string>& default_validation_cases();
 
 // Runs the cases, evaluates them and writes report.html, validation.csv (one row per comparison:
 // case,comparison,points,rms,max,mean,quantity,reference,window) and checks.csv (one row per
