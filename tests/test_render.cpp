@@ -266,7 +266,7 @@ TEST(Options, SizeTimesFieldsFormats) {
     FAIL() << "no error for an unknown field";
   } catch (const RenderError& e) {
     EXPECT_NE(std::string(e.what()).find("unknown field 'velocity'"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("vx, vy, speed, pressure, density"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("vx, vy, vz, speed, pressure, density"), std::string::npos) << e.what();
   }
   EXPECT_THROW(parse_format("avi"), RenderError);
 }
