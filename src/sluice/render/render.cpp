@@ -239,13 +239,14 @@ void check_slice(const Slice& slice, const Box3& box, const std::vector<FrameSum
                  const std::vector<std::size_t>& chosen) {
   const int a = slice.axis;
   if (slice.value < box.lo[a] || slice.value > box.hi[a])
-    throw RenderError(fmt::format("--slice {}: outside the run, whose particles span {} = {:.4g} to {:.4g} m",
-                                  describe(slice).substr(6), "xyz"[a], box.lo[a], box.hi[a]));
+    throw RenderError(fmt::format("--slice {}={:g}: outside the run, whose particles span {} = {:.4g} to {:.4g} m",
+                                  "xyz"[a], slice.value, "xyz"[a], box.lo[a], box.hi[a]));
   std::size_t count = 0;
   for (const std::size_t i : chosen) count += summaries[i].in_slab;
   if (count == 0)
-    throw RenderError(fmt::format("--slice {}: no particle lies within the slab {:.4g} m thick around it (--thickness)",
-                                  describe(slice).substr(6), slice.thickness_for(summaries.front().dx)));
+    throw RenderError(fmt::format("--slice {}={:g}: no particle lies within the slab {:.4g} m thick around it in the "
+                                  "frames drawn (--thickness sets it)",
+                                  "xyz"[a], slice.value, slice.thickness_for(summaries.front().dx)));
 }
 
 Drawing make_drawing(const RenderOptions& o, int dim, const std::vector<FrameSummary>& summaries,

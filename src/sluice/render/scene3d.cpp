@@ -97,7 +97,7 @@ bool CameraScene::hidden_wall(const Vec3& p) const {
 }
 
 FrameData CameraScene::view(const FrameData& frame) const {
-  std::vector<std::pair<float, std::uint32_t>> order;
+  std::vector<std::pair<double, std::uint32_t>> order;
   order.reserve(frame.size());
   std::vector<Projected> projected(frame.size());
   for (std::size_t i = 0; i < frame.size(); ++i) {
@@ -105,7 +105,7 @@ FrameData CameraScene::view(const FrameData& frame) const {
     if (frame.kind[i] != 0 && hidden_wall(p)) continue;
     projected[i] = projection_(p);
     if (std::isfinite(projected[i].depth))
-      order.emplace_back(static_cast<float>(projected[i].depth), static_cast<std::uint32_t>(i));
+      order.emplace_back(projected[i].depth, static_cast<std::uint32_t>(i));
   }
   std::sort(order.begin(), order.end());
   FrameData d;
