@@ -104,18 +104,19 @@ FrameData make_frame_3d(double dx, const std::vector<std::array<double, 5>>& par
   return d;
 }
 
-// A 1 m cube of one layer of wall particles 0.1 m apart (with or without its lid), and a block of
-// water [0.3, 0.7]^3 moving at 1 m/s.
-FrameData cube_with_water(bool lid) {
+// A cube of n spacings dx of one layer of wall particles (with or without its lid), and a block of
+// water in its middle fifth, [0.3, 0.7]^3 of it, moving at 1 m/s.
+FrameData cube_with_water(bool lid, int n = 10, double dx = 0.1) {
   std::vector<std::array<double, 5>> ps;
-  for (int i = 0; i <= 10; ++i)
-    for (int j = 0; j <= 10; ++j)
-      for (int k = 0; k <= 10; ++k) {
-        const bool face = i == 0 || i == 10 || j == 0 || j == 10 || k == 0 || (k == 10 && lid);
-        if (face) ps.push_back({0.1 * i, 0.1 * j, 0.1 * k, 0.0, 1.0});
-        else if (i >= 3 && i <= 7 && j >= 3 && j <= 7 && k >= 3 && k <= 7) ps.push_back({0.1 * i, 0.1 * j, 0.1 * k, 1.0, 0.0});
+  auto in_water = [n](int i) { return 10 * i >= 3 * n && 10 * i <= 7 * n; };
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j)
+      for (int k = 0; k <= n; ++k) {
+        const bool face = i == 0 || i == n || j == 0 || j == n || k == 0 || (k == n && lid);
+        if (face) ps.push_back({dx * i, dx * j, dx * k, 0.0, 1.0});
+        else if (in_water(i) && in_water(j) && in_water(k)) ps.push_back({dx * i, dx * j, dx * k, 1.0, 0.0});
       }
-  return make_frame_3d(0.1, ps);
+  return make_frame_3d(dx, ps);
 }
 
 Box3 box_of(const FrameData& d) {
@@ -217,7 +218,7 @@ TEST(Raster, TinyDiscStillMarksItsPixelAndClipIsRespected) {
 
 TEST(FrameRenderer, ParticlesLandWhereTheLayoutSaysInTheMapsColour) {
   const FieldInfo& speed = field_info(Field::speed);
-  const FrameRenderer renderer(speed, Range{0.0, 2.0}, Box{0.0, 0.0, 2.0, 1.0}, 600, 400, Style{"test", false, false, 2});
+  const FrameRenderer renderer(speed, Range{0.0, 2.0}, Box{0.0, 0.0, 2.0, 1.0}, 600, 400, Style{"test", false, false, 2, false, {}});
   const Layout& L = renderer.layout();
   EXPECT_EQ(L.width, 600);
   EXPECT_EQ(L.height, 400);
@@ -341,6 +342,13 @@ TEST(CameraScene, OrdersFarToNearAndCutsTheWallsFacingTheCamera) {
   EXPECT_FALSE(open_scene.hidden_wall({0.5, 1.0, 1.0}));
   EXPECT_FALSE(open_scene.hidden_wall({0.0, 0.5, 1.0}));
   EXPECT_TRUE(open_scene.hidden_wall({0.5, 0.0, 1.0}));
+  // A spacing that single-precision positions do not divide exactly finds the same walls.
+  const FrameData fine = cube_with_water(false, 40, 0.0175);
+  const CameraScene fine_scene(named_view("iso"), box_of(fine), fine);
+  EXPECT_TRUE(fine_scene.hidden_wall({0.35, 0.0, 0.35}));
+  EXPECT_TRUE(fine_scene.hidden_wall({0.7, 0.35, 0.35}));
+  EXPECT_FALSE(fine_scene.hidden_wall({0.35, 0.7, 0.35}));
+  EXPECT_FALSE(fine_scene.hidden_wall({0.35, 0.35, 0.0}));
   // Two particles on one line of sight: the nearer is drawn last.
   const FrameData two = make_frame_3d(0.1, {{0.5, 0.5, 0.9, 1.0, 0.0}, {0.5, 0.5, 0.1, 0.0, 0.0}});
   const CameraScene top(named_view("top"), box_of(cube), cube);
@@ -353,7 +361,8 @@ TEST(CameraScene, OrdersFarToNearAndCutsTheWallsFacingTheCamera) {
 TEST(FrameRenderer, A3DFrameShowsTheWaterInShadedMapColoursAndFaintFarWalls) {
   const FrameData cube = cube_with_water(true);
   const CameraScene scene(named_view("iso"), box_of(cube), cube);
-  Style style{"3D", false, false, 2};
+  Style style;
+  style.title = "3D";
   style.shaded = true;
   const FieldInfo& speed = field_info(Field::speed);
   const FrameRenderer renderer(speed, Range{0.0, 2.0}, scene.world(), 700, 600, style);

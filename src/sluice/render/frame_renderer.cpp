@@ -164,11 +164,11 @@ void FrameRenderer::draw_static() {
   draw_unit();
 }
 
-// The case's title, or the field's if that does not fit beside the time stamp, or none.
+// The case's title, or the short title, or the field's if those do not fit beside the time stamp, or none.
 void FrameRenderer::draw_title() {
   const int time_w = title_font_.text_width(fmt::format("t = {:.{}f} s", 8888.0, style_.time_decimals));
   const int room = layout_.plot.width() - time_w - layout_.font_px;
-  for (const std::string& title : {style_.title, std::string(field_.title)})
+  for (const std::string& title : {style_.title, style_.short_title, std::string(field_.title)})
     if (!title.empty() && title_font_.text_width(title) <= room) {
       title_font_.draw(base_, layout_.plot.x0, title_baseline(), title, text_darkness);
       return;

@@ -40,6 +40,7 @@ struct Style {
   bool extend_high = false;       // ... above it
   int time_decimals = 2;
   bool shaded = false;            // 3D frames seen by a camera: the shaded palette
+  std::string short_title;        // drawn instead where the title does not fit (then the field's title)
 };
 
 // Draws frames of one field with a fixed range, layout and fonts. Thread-safe: draw() is const.

@@ -318,7 +318,10 @@ Style style_for(const fs::path& run_dir, const FieldInfo& info, Range range,
   Style style;
   const std::string case_name = case_name_of(run_dir);
   style.title = case_name.empty() ? std::string(info.title) : fmt::format("{} \u2014 {}", case_name, info.title);
-  if (!drawing.note.empty()) style.title += fmt::format(" ({})", drawing.note);
+  if (!drawing.note.empty()) {
+    style.title += fmt::format(" ({})", drawing.note);
+    style.short_title = fmt::format("{} ({})", info.title, drawing.note);
+  }
   style.shaded = drawing.scene.has_value();
   style.extend_low = vmin < range.lo - tolerance;
   style.extend_high = vmax > range.hi + tolerance;

@@ -46,15 +46,16 @@ std::array<bool, 6> closed_faces(const Box3& walls, const FrameData& first) {
   std::array<bool, 6> closed{};
   for (int f = 0; f < 6; ++f) {
     const int a = f / 2, b = (a + 1) % 3, c = (a + 2) % 3;
-    const int nb = std::max(1, static_cast<int>(std::ceil((walls.hi[b] - walls.lo[b]) / dx)) + 1);
-    const int nc = std::max(1, static_cast<int>(std::ceil((walls.hi[c] - walls.lo[c]) / dx)) + 1);
+    // Cells centred on the lattice from the box's corner (rounded: positions are single precision).
+    const int nb = static_cast<int>(std::lround((walls.hi[b] - walls.lo[b]) / dx)) + 1;
+    const int nc = static_cast<int>(std::lround((walls.hi[c] - walls.lo[c]) / dx)) + 1;
     std::vector<char> covered(static_cast<std::size_t>(nb) * nc, 0);
     for (std::size_t i = 0; i < first.size(); ++i) {
       if (first.kind[i] == 0) continue;
       const Vec3 p = position(first, i);
       if (!(face_distance(walls, p, f) < 0.75 * dx)) continue;
-      const int ib = std::clamp(static_cast<int>((p[b] - walls.lo[b]) / dx), 0, nb - 1);
-      const int ic = std::clamp(static_cast<int>((p[c] - walls.lo[c]) / dx), 0, nc - 1);
+      const int ib = std::clamp(static_cast<int>(std::lround((p[b] - walls.lo[b]) / dx)), 0, nb - 1);
+      const int ic = std::clamp(static_cast<int>(std::lround((p[c] - walls.lo[c]) / dx)), 0, nc - 1);
       covered[static_cast<std::size_t>(ib) * nc + ic] = 1;
     }
     closed[f] = 2 * std::count(covered.begin(), covered.end(), 1) > static_cast<std::ptrdiff_t>(covered.size());
