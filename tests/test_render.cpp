@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -13,6 +14,7 @@
 #include "sluice/io/atomic_file.hpp"
 #include "sluice/io/frames.hpp"
 #include "sluice/io/npz.hpp"
+#include "sluice/render/camera.hpp"
 #include "sluice/render/color_range.hpp"
 #include "sluice/render/encoders.hpp"
 #include "sluice/render/fields.hpp"
@@ -20,6 +22,7 @@
 #include "sluice/render/options.hpp"
 #include "sluice/render/render.hpp"
 #include "sluice/render/render_error.hpp"
+#include "sluice/render/scene3d.hpp"
 #include "sluice/render/ticks.hpp"
 
 using namespace sluice;
@@ -84,6 +87,43 @@ void write_test_run(const fs::path& dir, int frames) {
   }
 }
 
+
+// A 3D frame reduced to speed: particles (x, y, z, speed, kind).
+FrameData make_frame_3d(double dx, const std::vector<std::array<double, 5>>& particles) {
+  FrameData d;
+  d.time = 0.5;
+  d.dx = dx;
+  d.dimension = 3;
+  for (const auto& p : particles) {
+    d.x.push_back(static_cast<float>(p[0]));
+    d.y.push_back(static_cast<float>(p[1]));
+    d.z.push_back(static_cast<float>(p[2]));
+    d.value.push_back(static_cast<float>(p[3]));
+    d.kind.push_back(static_cast<std::uint8_t>(p[4]));
+  }
+  return d;
+}
+
+// A cube of n spacings dx of one layer of wall particles (with or without its lid), and a block of
+// water in its middle fifth, [0.3, 0.7]^3 of it, moving at 1 m/s.
+FrameData cube_with_water(bool lid, int n = 10, double dx = 0.1) {
+  std::vector<std::array<double, 5>> ps;
+  auto in_water = [n](int i) { return 10 * i >= 3 * n && 10 * i <= 7 * n; };
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j)
+      for (int k = 0; k <= n; ++k) {
+        const bool face = i == 0 || i == n || j == 0 || j == n || k == 0 || (k == n && lid);
+        if (face) ps.push_back({dx * i, dx * j, dx * k, 0.0, 1.0});
+        else if (in_water(i) && in_water(j) && in_water(k)) ps.push_back({dx * i, dx * j, dx * k, 1.0, 0.0});
+      }
+  return make_frame_3d(dx, ps);
+}
+
+Box3 box_of(const FrameData& d) {
+  Box3 b;
+  for (std::size_t i = 0; i < d.size(); ++i) b.add({d.x[i], d.y[i], d.z[i]});
+  return b;
+}
 }  // namespace
 
 // --- colour maps ------------------------------------------------------------------------------
@@ -178,7 +218,7 @@ TEST(Raster, TinyDiscStillMarksItsPixelAndClipIsRespected) {
 
 TEST(FrameRenderer, ParticlesLandWhereTheLayoutSaysInTheMapsColour) {
   const FieldInfo& speed = field_info(Field::speed);
-  const FrameRenderer renderer(speed, Range{0.0, 2.0}, Box{0.0, 0.0, 2.0, 1.0}, 600, 400, Style{"test", false, false, 2});
+  const FrameRenderer renderer(speed, Range{0.0, 2.0}, Box{0.0, 0.0, 2.0, 1.0}, 600, 400, Style{"test", false, false, 2, false, {}});
   const Layout& L = renderer.layout();
   EXPECT_EQ(L.width, 600);
   EXPECT_EQ(L.height, 400);
@@ -240,6 +280,188 @@ TEST(FrameRenderer, SignedFieldsUseTheDivergingMap) {
   EXPECT_EQ(s.palette().colours[0], colormap_at(Colormap::viridis, 0.0));
 }
 
+// --- 3D: the camera, the scene, the slice ------------------------------------------------------------
+
+TEST(Camera, AzimuthZeroElevationZeroLooksAlongMinusX) {
+  const Projection side(Camera{0.0, 0.0});
+  const Projected px = side({1.0, 0.0, 0.0});  // on +x: straight in front of the camera, nearest
+  EXPECT_NEAR(px.u, 0.0, 1e-12);
+  EXPECT_NEAR(px.v, 0.0, 1e-12);
+  EXPECT_NEAR(px.depth, 1.0, 1e-12);
+  EXPECT_NEAR(side({0.0, 1.0, 0.0}).u, 1.0, 1e-12);  // +y to the right
+  EXPECT_NEAR(side({0.0, 0.0, 1.0}).v, 1.0, 1e-12);  // z up
+  EXPECT_NEAR(side({-2.0, 0.0, 0.0}).depth, -2.0, 1e-12);
+  // Azimuth 90: the camera on +y; +x is then to the left.
+  EXPECT_NEAR(Projection(Camera{90.0, 0.0})({1.0, 0.0, 0.0}).u, -1.0, 1e-12);
+}
+
+TEST(Camera, NamedViews) {
+  const Projection top(named_view("top"));  // looking down z: x right, y up, z nearer
+  const Projected p = top({0.3, 0.7, 0.2});
+  EXPECT_NEAR(p.u, 0.3, 1e-12);
+  EXPECT_NEAR(p.v, 0.7, 1e-12);
+  EXPECT_NEAR(p.depth, 0.2, 1e-12);
+  const Projection front(named_view("front"));  // along +y: x right, z up, smaller y nearer
+  const Projected q = front({0.3, 0.7, 0.2});
+  EXPECT_NEAR(q.u, 0.3, 1e-12);
+  EXPECT_NEAR(q.v, 0.2, 1e-12);
+  EXPECT_NEAR(q.depth, -0.7, 1e-12);
+  const Projection side(named_view("side"));  // along -x: y right, z up
+  EXPECT_NEAR(side({0.3, 0.7, 0.2}).u, 0.7, 1e-12);
+  EXPECT_NEAR(side({0.3, 0.7, 0.2}).v, 0.2, 1e-12);
+  // iso: from the front right, above: the near top corner of a cube is nearer than the far bottom one.
+  const Projection iso(named_view("iso"));
+  EXPECT_GT(iso({1.0, 0.0, 1.0}).depth, iso({0.0, 1.0, 0.0}).depth);
+  EXPECT_EQ(describe(named_view("iso")), "iso view");
+  EXPECT_THROW(named_view("perspective"), RenderError);
+  EXPECT_DOUBLE_EQ(parse_azimuth("-45"), -45.0);
+  EXPECT_DOUBLE_EQ(parse_elevation("90"), 90.0);
+  for (const char* bad : {"91", "-90.5", "x", "", "nan"}) EXPECT_THROW(parse_elevation(bad), RenderError) << bad;
+  EXPECT_THROW(parse_azimuth("inf"), RenderError);
+}
+
+TEST(CameraScene, OrdersFarToNearAndCutsTheWallsFacingTheCamera) {
+  const FrameData cube = cube_with_water(true);
+  const CameraScene scene(named_view("iso"), box_of(cube), cube);
+  const FrameData v = scene.view(cube);
+  ASSERT_FALSE(v.depth.empty());
+  EXPECT_TRUE(std::is_sorted(v.depth.begin(), v.depth.end()));  // painter's order: far first
+  EXPECT_GE(v.depth.front(), 0.0f);
+  EXPECT_LE(v.depth.back(), 1.0f);
+  // The iso camera is on the +x, -y side, above: those walls and the lid go, the others stay.
+  EXPECT_TRUE(scene.hidden_wall({1.0, 0.5, 0.5}));
+  EXPECT_TRUE(scene.hidden_wall({0.5, 0.0, 0.5}));
+  EXPECT_TRUE(scene.hidden_wall({0.5, 0.5, 1.0}));
+  EXPECT_FALSE(scene.hidden_wall({0.0, 0.5, 0.5}));
+  EXPECT_FALSE(scene.hidden_wall({0.5, 1.0, 0.5}));
+  EXPECT_FALSE(scene.hidden_wall({0.5, 0.5, 0.0}));
+  EXPECT_EQ(std::count(v.kind.begin(), v.kind.end(), 0), 125);  // all the water is drawn
+  // Without a lid the top is open: the back walls' top rows stay.
+  const FrameData open = cube_with_water(false);
+  const CameraScene open_scene(named_view("iso"), box_of(open), open);
+  EXPECT_FALSE(open_scene.hidden_wall({0.5, 1.0, 1.0}));
+  EXPECT_FALSE(open_scene.hidden_wall({0.0, 0.5, 1.0}));
+  EXPECT_TRUE(open_scene.hidden_wall({0.5, 0.0, 1.0}));
+  // A spacing that single-precision positions do not divide exactly finds the same walls.
+  const FrameData fine = cube_with_water(false, 40, 0.0175);
+  const CameraScene fine_scene(named_view("iso"), box_of(fine), fine);
+  EXPECT_TRUE(fine_scene.hidden_wall({0.35, 0.0, 0.35}));
+  EXPECT_TRUE(fine_scene.hidden_wall({0.7, 0.35, 0.35}));
+  EXPECT_FALSE(fine_scene.hidden_wall({0.35, 0.7, 0.35}));
+  EXPECT_FALSE(fine_scene.hidden_wall({0.35, 0.35, 0.0}));
+  // Two particles on one line of sight: the nearer is drawn last.
+  const FrameData two = make_frame_3d(0.1, {{0.5, 0.5, 0.9, 1.0, 0.0}, {0.5, 0.5, 0.1, 0.0, 0.0}});
+  const CameraScene top(named_view("top"), box_of(cube), cube);
+  const FrameData seen = top.view(two);
+  ASSERT_EQ(seen.size(), 2u);
+  EXPECT_FLOAT_EQ(seen.value.back(), 1.0f);  // the upper one, nearer a camera looking down
+  EXPECT_LT(seen.depth.front(), seen.depth.back());
+}
+
+TEST(FrameRenderer, A3DFrameShowsTheWaterInShadedMapColoursAndFaintFarWalls) {
+  const FrameData cube = cube_with_water(true);
+  const CameraScene scene(named_view("iso"), box_of(cube), cube);
+  Style style;
+  style.title = "3D";
+  style.shaded = true;
+  const FieldInfo& speed = field_info(Field::speed);
+  const FrameRenderer renderer(speed, Range{0.0, 2.0}, scene.world(), 700, 600, style);
+  const IndexedImage image = renderer.draw(scene.view(cube));
+  const Layout& L = renderer.layout();
+  const Projection iso(named_view("iso"));
+  auto pixel_of = [&](const Vec3& p) {
+    const Projected q = iso(p);
+    const auto px = L.to_pixel(q.u, q.v);
+    return image.at(static_cast<int>(px[0]), static_cast<int>(px[1]));
+  };
+  // The water's near corner (the walls in front of it are cut away): speed 1 of 0..2, the map's
+  // middle, in one of its shades.
+  const std::uint8_t water = pixel_of({0.7, 0.3, 0.7});
+  ASSERT_LT(water, Palette::map_levels);
+  EXPECT_EQ(water % Palette::shaded_levels, Palette::shaded_index(0.5, 0) % Palette::shaded_levels);
+  const Rgb c = renderer.palette().colours[water], m = colormap_at(Colormap::viridis, 0.5);
+  const double f = static_cast<double>(c.g) / m.g;
+  EXPECT_GE(f, Palette::darkest_shade - 0.02);
+  EXPECT_LE(f, 1.0 + 1e-9);
+  EXPECT_NEAR(c.r, f * m.r, 2.0);
+  EXPECT_NEAR(c.b, f * m.b, 2.0);
+  // The shaded palette: shade 0 is darkest_shade times the map, the top shade the map itself.
+  EXPECT_EQ(renderer.palette().colours[Palette::shaded_index(1.0, Palette::shade_levels - 1)],
+            colormap_at(Colormap::viridis, 1.0));
+  // The far walls (x = 0, y = 1, the floor) are faint grey, well away from the water.
+  for (const Vec3& p : std::vector<Vec3>{{0.0, 1.0, 0.95}, {0.0, 0.1, 0.9}, {0.9, 0.9, 0.0}}) {
+    const Rgb w = renderer.palette().colours[pixel_of(p)];
+    EXPECT_TRUE(w.r == w.g && w.g == w.b) << p[0] << "," << p[1] << "," << p[2];
+    EXPECT_GE(w.r, 170) << p[0] << "," << p[1] << "," << p[2];
+    EXPECT_LT(w.r, 255) << p[0] << "," << p[1] << "," << p[2];
+  }
+  // The colour bar is the map's own colours, low at the bottom.
+  const int bx = (L.bar.x0 + L.bar.x1) / 2;
+  EXPECT_EQ(renderer.palette().colours[image.at(bx, L.bar.y1 - 1)], colormap_at(Colormap::viridis, 0.0));
+  EXPECT_EQ(renderer.palette().colours[image.at(bx, L.bar.y0)], colormap_at(Colormap::viridis, 1.0));
+}
+
+TEST(Slice, PicksExactlyTheParticlesInTheSlab) {
+  std::vector<std::array<double, 5>> ps;
+  for (int j = 0; j <= 10; ++j) ps.push_back({0.25, 0.1 * j, 0.75, 0.1 * j, j == 0 ? 1.0 : 0.0});
+  const FrameData d = make_frame_3d(0.1, ps);
+  Slice s = parse_slice("y=0.5");
+  EXPECT_EQ(s.axis, 1);
+  EXPECT_DOUBLE_EQ(s.value, 0.5);
+  s.thickness = 0.25;  // |y - 0.5| < 0.125: y = 0.4, 0.5, 0.6
+  const FrameData slab = slice_frame(d, s);
+  ASSERT_EQ(slab.size(), 3u);
+  EXPECT_EQ(slab.dimension, 2);
+  EXPECT_TRUE(slab.depth.empty());
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_FLOAT_EQ(slab.x[i], 0.25f);  // x stays x, z is up
+    EXPECT_FLOAT_EQ(slab.y[i], 0.75f);
+    EXPECT_NEAR(slab.value[i], 0.4 + 0.1 * static_cast<double>(i), 1e-6);
+  }
+  s.value = 0.45;
+  s.thickness = 0.0;  // the default: 2 dx, |y - 0.45| < 0.1: y = 0.4 and 0.5
+  const FrameData narrow = slice_frame(d, s);
+  ASSERT_EQ(narrow.size(), 2u);
+  EXPECT_NEAR(narrow.value[0], 0.4, 1e-6);
+  EXPECT_NEAR(narrow.value[1], 0.5, 1e-6);
+  // An x slice shows (y, z); a z slice (x, y).
+  const FrameData xs = slice_frame(d, parse_slice("x=0.25"));
+  ASSERT_EQ(xs.size(), 11u);
+  EXPECT_FLOAT_EQ(xs.x[3], d.y[3]);
+  EXPECT_FLOAT_EQ(xs.y[3], 0.75f);
+  EXPECT_EQ(slice_frame(d, parse_slice("z=0.75")).size(), 11u);
+  EXPECT_EQ(slice_frame(d, parse_slice("z=0.5")).size(), 0u);
+  for (const char* bad : {"y", "w=0.5", "y=", "y=a", "xy=1", "=1"}) EXPECT_THROW(parse_slice(bad), RenderError) << bad;
+  EXPECT_THROW(parse_thickness("0"), RenderError);
+  EXPECT_THROW(parse_thickness("-1"), RenderError);
+  EXPECT_DOUBLE_EQ(parse_thickness("0.05"), 0.05);
+}
+
+TEST(RenderRun, CameraSliceAndVzOnA2DRunAreClearErrors) {
+  TempDir tmp;
+  write_test_run(tmp.path, 2);
+  auto message = [&](const RenderOptions& o) {
+    try {
+      render_run(tmp.path, o);
+    } catch (const RenderError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  RenderOptions o;
+  o.camera = named_view("top");
+  o.camera_flag = "--elevation";
+  EXPECT_NE(message(o).find("--elevation: the run is 2D"), std::string::npos) << message(o);
+  o = RenderOptions{};
+  o.slice = parse_slice("y=0.5");
+  EXPECT_NE(message(o).find("--slice: the run is 2D"), std::string::npos) << message(o);
+  o = RenderOptions{};
+  o.field = Field::vz;
+  EXPECT_NE(message(o).find("--field vz: the run is 2D"), std::string::npos) << message(o);
+  EXPECT_FALSE(fs::exists(tmp.path / "speed.gif"));
+  EXPECT_FALSE(fs::exists(tmp.path / "vz.gif"));
+}
+
 // --- options -----------------------------------------------------------------------------------
 
 TEST(Options, RangeParses) {
@@ -266,7 +488,7 @@ TEST(Options, SizeTimesFieldsFormats) {
     FAIL() << "no error for an unknown field";
   } catch (const RenderError& e) {
     EXPECT_NE(std::string(e.what()).find("unknown field 'velocity'"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("vx, vy, speed, pressure, density"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("vx, vy, vz, speed, pressure, density"), std::string::npos) << e.what();
   }
   EXPECT_THROW(parse_format("avi"), RenderError);
 }

@@ -43,6 +43,32 @@ max = [0.5, 0.5]
 FRAMES = 5  # t = 0, 0.025, ..., 0.1
 DX = 0.05
 
+# A 3D dam break: a 0.25 m x 0.2 m x 0.5 m column in one corner of an open 0.6 m x 0.4 m x 0.8 m tank.
+CASE_3D = """
+[case]
+name = "tiny3d"
+description = "render test in 3D"
+[domain]
+dimension = 3
+dx = 0.05
+[tank]
+width = 0.6
+depth = 0.4
+height = 0.8
+lid = false
+[physics]
+gravity = [0.0, 0.0, -9.81]
+[time]
+end = 0.1
+[output]
+interval = 0.05
+[[water]]
+min = [0.0, 0.0, 0.0]
+max = [0.25, 0.2, 0.5]
+"""
+FRAMES_3D = 3  # t = 0, 0.05, 0.1
+VIEWS = ["iso", "front", "side", "top"]
+
 # matplotlib's viridis (_cm_listed.py, _viridis_data) at entries 0, 8, 16, ..., 248 and 255, times 255.
 VIRIDIS_AT = list(range(0, 256, 8)) + [255]
 VIRIDIS = [
@@ -125,6 +151,11 @@ class RenderTest(unittest.TestCase):
         # `sluice run --render` draws the animation at the end of the run.
         cls.run_output = sluice("run", case, "-o", cls.run_dir, "-q", "--render", "speed")
         cls.frame0 = dict(np.load(os.path.join(cls.run_dir, "frames", "frame_000000.npz")))
+        case3d = os.path.join(cls.tmp, "tiny3d.toml")
+        with open(case3d, "w") as f:
+            f.write(CASE_3D)
+        cls.run3d = os.path.join(cls.tmp, "run3d")
+        sluice("run", case3d, "-o", cls.run3d, "-q")
 
     @classmethod
     def tearDownClass(cls):
@@ -274,6 +305,101 @@ class RenderTest(unittest.TestCase):
         self.assertEqual(info["codec_name"], "h264")
         self.assertEqual(info["r_frame_rate"], "20/1")
         self.assertEqual(int(info["width"]) % 2, 0)
+
+    def assert_3d_picture(self, img, size=None, faint_walls=True, ends=((253, 231, 37), (68, 1, 84))):
+        """A picture of a 3D run: water in colour map colours, a colour bar from the map's low end to its
+        high end, walls in grey, a white background."""
+        if size:
+            self.assertEqual((img.shape[1], img.shape[0]), size)
+        grey = is_grey(img)
+        self.assertGreater((img == 255).all(axis=2).sum(), 0.1 * img.shape[0] * img.shape[1])  # background
+        # The colour bar: a column right of the middle whose top is viridis' high end and bottom its low end.
+        bar_cols = [x for x in range(img.shape[1] // 2, img.shape[1])
+                    if (~grey[:, x]).sum() > img.shape[0] // 3]
+        self.assertTrue(bar_cols, "no colour bar")
+        col = img[:, bar_cols[len(bar_cols) // 2]]
+        coloured = np.nonzero(~is_grey(col[None, :, :])[0])[0]
+        self.assertLessEqual(np.abs(col[coloured[0]] - ends[0]).max(), 8)  # top: high end
+        self.assertLessEqual(np.abs(col[coloured[-1]] - ends[1]).max(), 8)  # bottom: low end
+        # Water: coloured pixels left of the colour bar.
+        water = ~grey[:, :min(bar_cols) - 5]
+        self.assertGreater(water.sum(), 500)
+        # Walls: grey pixels that are neither white nor text-black.
+        walls = grey & (img[:, :, 0] > 100) & (img[:, :, 0] < 250)
+        self.assertGreater(walls.sum(), 500)
+        if faint_walls:
+            values, counts = np.unique(img[walls][:, 0], return_counts=True)
+            self.assertGreater(values[np.argmax(counts)], 170)  # the commonest wall grey is light
+        return water
+
+    def test_3d_views_to_png_and_gif(self):
+        for view in VIEWS:
+            png = self.out(f"3d_{view}.png")
+            r = sluice("render", self.run3d, "--view", view, "--times", "0.1", "--size", "640x480", "-o", png)
+            self.assertIn("1 PNG picture (640x480", r.stdout)
+            water = self.assert_3d_picture(rgb(png), (640, 480))
+            if view == "iso":  # lit spheres: the water has several shades of its colours
+                img = rgb(png)
+                self.assertGreater(len(np.unique(img[:, :img.shape[1] * 3 // 4][water[:, :img.shape[1] * 3 // 4]],
+                                                 axis=0)), 8)
+            gif = self.out(f"3d_{view}.gif")
+            sluice("render", self.run3d, "--view", view, "--fps", 10, "-o", gif)
+            with Image.open(gif) as im:
+                self.assertEqual(im.n_frames, FRAMES_3D)
+                self.assertEqual(im.info["duration"], 100)
+                self.assertEqual(im.size[0] % 2, 0)
+                im.seek(FRAMES_3D - 1)
+                self.assert_3d_picture(np.asarray(im.convert("RGB")).astype(int))
+        # The default is the iso view; an azimuth and elevation of one's own; vz in 3D.
+        sluice("render", self.run3d, "--field", "vz", "--times", "0.1", "-o", self.out("3d_default.png"))
+        self.assert_3d_picture(rgb(self.out("3d_default.png")), ends=((180, 4, 38), (59, 76, 192)))  # coolwarm
+        sluice("render", self.run3d, "--view", "front", "--azimuth", "-120", "--elevation", "45", "--times", "0.1",
+               "-o", self.out("3d_angles.png"))
+        self.assert_3d_picture(rgb(self.out("3d_angles.png")))
+        # The top view of a tank 0.6 m wide and 0.4 m deep is wider than high; the front view of one
+        # 0.8 m high is much narrower.
+        with Image.open(self.out("3d_top.gif")) as top, Image.open(self.out("3d_front.gif")) as front:
+            self.assertGreater(top.size[0], top.size[1])
+            self.assertLess(front.size[0] / front.size[1], 0.8 * top.size[0] / top.size[1])
+
+    def test_3d_slice_to_png_and_gif(self):
+        png = self.out("3d_slice.png")
+        sluice("render", self.run3d, "--slice", "y=0.1", "--times", "0", "--range", "0:1", "--size", "640x480",
+               "-o", png)
+        img = rgb(png)
+        self.assert_3d_picture(img, (640, 480), faint_walls=False)
+        # Drawn as a 2D run: walls in the 2D wall grey, the water at rest in viridis' low end.
+        self.assertGreater(((img == 145).all(axis=2)).sum(), 500)
+        self.assertGreater(((img == (68, 1, 84)).all(axis=2)).sum(), 500)
+        gif = self.out("3d_slice.gif")
+        sluice("render", self.run3d, "--slice", "x=0.1", "--thickness", "0.1", "-o", gif)
+        with Image.open(gif) as im:
+            self.assertEqual(im.n_frames, FRAMES_3D)
+            im.seek(0)
+            self.assert_3d_picture(np.asarray(im.convert("RGB")).astype(int), faint_walls=False)
+
+    def test_3d_flags_errors(self):
+        def fails(run, *args, says):
+            r = sluice("render", run, *args, "-o", self.out("never.gif"), check=False)
+            self.assertEqual(r.returncode, 2, f"{args}: {r.stderr}")
+            self.assertIn(says, r.stderr)
+            self.assertFalse(os.path.exists(self.out("never.gif")))
+        # Camera and slice flags, and vz, on a 2D run.
+        fails(self.run_dir, "--view", "iso", says="--view: the run is 2D")
+        fails(self.run_dir, "--azimuth", "30", says="--azimuth: the run is 2D")
+        fails(self.run_dir, "--elevation", "30", says="--elevation: the run is 2D")
+        fails(self.run_dir, "--slice", "y=0.5", says="--slice: the run is 2D")
+        fails(self.run_dir, "--field", "vz", says="--field vz: the run is 2D")
+        # Bad values on a 3D run.
+        fails(self.run3d, "--view", "perspective", says="unknown view")
+        fails(self.run3d, "--elevation", "95", says="--elevation 95")
+        fails(self.run3d, "--azimuth", "east", says="--azimuth 'east'")
+        fails(self.run3d, "--slice", "w=0.1", says="--slice 'w=0.1'")
+        fails(self.run3d, "--slice", "y=2", says="outside the run")
+        fails(self.run3d, "--slice", "y=0.2", "--thickness", "0.001", "--times", "0", says="no particle lies within")
+        fails(self.run3d, "--slice", "y=0.2", "--thickness", "-1", says="--thickness '-1'")
+        fails(self.run3d, "--thickness", "0.1", says="--thickness")
+        fails(self.run3d, "--slice", "y=0.2", "--view", "top", says="--view and --slice")
 
     def test_errors_are_clear(self):
         r = sluice("render", self.run_dir, "--field", "velocity", check=False)

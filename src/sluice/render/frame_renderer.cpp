@@ -143,7 +143,7 @@ double disc_radius(double spacing) {
 
 FrameRenderer::FrameRenderer(const FieldInfo& field, Range range, Box world, int width, int height, Style style,
                              const std::filesystem::path& font_file)
-    : field_(field), range_(range), style_(std::move(style)), palette_(Palette::for_map(field.map)),
+    : field_(field), range_(range), style_(std::move(style)), palette_(style_.shaded ? Palette::for_map_shaded(field.map) : Palette::for_map(field.map)),
       title_font_(font_file, title_px_for(width, height)),
       label_font_(font_file, label_px_for(title_px_for(width, height))),
       layout_(make_layout(field, range, world, width, height, style_, title_font_, label_font_)) {
@@ -164,11 +164,11 @@ void FrameRenderer::draw_static() {
   draw_unit();
 }
 
-// The case's title, or the field's if that does not fit beside the time stamp, or none.
+// The case's title, or the short title, or the field's if those do not fit beside the time stamp, or none.
 void FrameRenderer::draw_title() {
   const int time_w = title_font_.text_width(fmt::format("t = {:.{}f} s", 8888.0, style_.time_decimals));
   const int room = layout_.plot.width() - time_w - layout_.font_px;
-  for (const std::string& title : {style_.title, std::string(field_.title)})
+  for (const std::string& title : {style_.title, style_.short_title, std::string(field_.title)})
     if (!title.empty() && title_font_.text_width(title) <= room) {
       title_font_.draw(base_, layout_.plot.x0, title_baseline(), title, text_darkness);
       return;
@@ -182,16 +182,16 @@ void FrameRenderer::draw_colour_bar() {
   fill_rect(base_, {bar.x0 - 1, bar.y0 - 1, bar.x1 + 1, bar.y1 + 1}, Palette::grey(frame_darkness));
   for (int y = bar.y0; y < bar.y1; ++y) {
     const double t = bar_h > 1 ? static_cast<double>(bar.y1 - 1 - y) / (bar_h - 1) : 0.5;
-    fill_rect(base_, {bar.x0, y, bar.x1, y + 1}, Palette::map_index(t));
+    fill_rect(base_, {bar.x0, y, bar.x1, y + 1}, bar_index(t));
   }
   const int tri_h = end_height(bar.width());
   const double mid = 0.5 * (bar.x0 + bar.x1);
   if (style_.extend_high)
     fill_triangle(base_, {double(bar.x0), double(bar.y0)}, {double(bar.x1), double(bar.y0)},
-                  {mid, double(bar.y0 - 1 - tri_h)}, Palette::map_index(1.0));
+                  {mid, double(bar.y0 - 1 - tri_h)}, bar_index(1.0));
   if (style_.extend_low)
     fill_triangle(base_, {double(bar.x0), double(bar.y1)}, {double(bar.x1), double(bar.y1)},
-                  {mid, double(bar.y1 + 1 + tri_h)}, Palette::map_index(0.0));
+                  {mid, double(bar.y1 + 1 + tri_h)}, bar_index(0.0));
 }
 
 void FrameRenderer::draw_ticks() {
@@ -220,13 +220,16 @@ void FrameRenderer::draw_unit() {
                    text_darkness);
 }
 
-IndexedImage FrameRenderer::draw(const FrameData& frame) const {
-  IndexedImage image = base_;
+std::uint8_t FrameRenderer::bar_index(double t) const {
+  return style_.shaded ? Palette::shaded_index(t, Palette::shade_levels - 1) : Palette::map_index(t);
+}
+
+// Walls first, then the fluid over them.
+void FrameRenderer::draw_flat(IndexedImage& image, const FrameData& frame) const {
   const Layout& L = layout_;
   const double radius = disc_radius(frame.dx * L.scale);
   const std::uint8_t wall = Palette::grey(wall_grey);
   const double span = range_.hi - range_.lo;
-  // Walls first, then the fluid over them.
   for (int pass = 0; pass < 2; ++pass)
     for (std::size_t i = 0; i < frame.size(); ++i) {
       const bool is_wall = frame.kind[i] != 0;
@@ -239,6 +242,34 @@ IndexedImage FrameRenderer::draw(const FrameData& frame) const {
       }
       fill_disc(image, p[0], p[1], radius, index, L.plot);
     }
+}
+
+// In the frame's order (far to near), each particle a lit sphere, dimmer the farther it is.
+void FrameRenderer::draw_spheres(IndexedImage& image, const FrameData& frame) const {
+  const Layout& L = layout_;
+  const double radius = disc_radius(frame.dx * L.scale);
+  const double span = range_.hi - range_.lo;
+  std::array<std::uint8_t, Palette::shade_levels> walls{}, ramp{};
+  for (int s = 0; s < Palette::shade_levels; ++s) walls[s] = Palette::grey(wall_ramp[s]);
+  for (std::size_t i = 0; i < frame.size(); ++i) {
+    const auto p = L.to_pixel(frame.x[i], frame.y[i]);
+    const double dim = far_dim + (1.0 - far_dim) * frame.depth[i];
+    if (frame.kind[i] != 0) {
+      fill_sphere(image, p[0], p[1], radius, dim, walls, L.plot);
+      continue;
+    }
+    const float v = frame.value[i];
+    for (int s = 0; s < Palette::shade_levels; ++s)
+      ramp[s] = std::isfinite(v) ? Palette::shaded_index((v - range_.lo) / span, s) : Palette::black;
+    fill_sphere(image, p[0], p[1], radius, dim, ramp, L.plot);
+  }
+}
+
+IndexedImage FrameRenderer::draw(const FrameData& frame) const {
+  IndexedImage image = base_;
+  const Layout& L = layout_;
+  if (frame.depth.empty()) draw_flat(image, frame);
+  else draw_spheres(image, frame);
   const std::string stamp = fmt::format("t = {:.{}f} s", frame.time, style_.time_decimals);
   title_font_.draw(image, L.plot.x1 - title_font_.text_width(stamp), title_baseline(), stamp, text_darkness);
   return image;

@@ -1,7 +1,8 @@
 // One frame as a picture: each particle a filled disc of its physical size (the area dx^2 it stands
 // for: radius dx/sqrt(pi); a little larger when particles are under 8 pixels apart, see
 // FrameRenderer::draw), walls in grey, fluid coloured by a field on a fixed colour range, with a
-// colour bar and the simulated time.
+// colour bar and the simulated time. A 3D frame seen by a camera (depth given) is drawn far to near as
+// spheres in a shaded palette: lit from the upper left, darker with depth, walls in faint grey.
 #pragma once
 
 #include <array>
@@ -38,6 +39,8 @@ struct Style {
   bool extend_low = false;        // some values lie below the range: pointed lower end
   bool extend_high = false;       // ... above it
   int time_decimals = 2;
+  bool shaded = false;            // 3D frames seen by a camera: the shaded palette
+  std::string short_title;        // drawn instead where the title does not fit (then the field's title)
 };
 
 // Draws frames of one field with a fixed range, layout and fonts. Thread-safe: draw() is const.
@@ -52,6 +55,10 @@ class FrameRenderer {
   [[nodiscard]] IndexedImage draw(const FrameData& frame) const;
 
   static constexpr int wall_grey = 13;  // grey level of walls (0 white .. 30 black): RGB 145
+  // Grey levels of walls seen by a camera, dark to light (RGB 179 to 230): faint behind the water.
+  static constexpr std::array<int, Palette::shade_levels> wall_ramp = {9, 7, 5, 3};
+  // The brightness factor of the farthest particles seen by a camera (the nearest: 1).
+  static constexpr double far_dim = 0.6;
 
  private:
   // What every frame shares, drawn once into base_.
@@ -61,6 +68,9 @@ class FrameRenderer {
   void draw_ticks();
   void draw_unit();
   [[nodiscard]] int title_baseline() const;
+  [[nodiscard]] std::uint8_t bar_index(double t) const;  // the colour bar's colour for t in [0, 1]
+  void draw_flat(IndexedImage& image, const FrameData& frame) const;
+  void draw_spheres(IndexedImage& image, const FrameData& frame) const;
 
   FieldInfo field_;
   Range range_;

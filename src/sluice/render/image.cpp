@@ -22,6 +22,24 @@ std::uint8_t Palette::map_index(double t) {
   return static_cast<std::uint8_t>(std::lround(t * (map_levels - 1)));
 }
 
+Palette Palette::for_map_shaded(Colormap map) {
+  Palette p = for_map(map);
+  for (int s = 0; s < shade_levels; ++s) {
+    const double f = darkest_shade + (1.0 - darkest_shade) * s / (shade_levels - 1);
+    for (int k = 0; k < shaded_levels; ++k) {
+      const Rgb c = colormap_at(map, static_cast<double>(k) / (shaded_levels - 1));
+      auto dim = [f](std::uint8_t v) { return static_cast<std::uint8_t>(std::lround(f * v)); };
+      p.colours[s * shaded_levels + k] = {dim(c.r), dim(c.g), dim(c.b)};
+    }
+  }
+  return p;
+}
+
+std::uint8_t Palette::shaded_index(double t, int shade) {
+  const int level = !(t > 0.0) ? 0 : t >= 1.0 ? shaded_levels - 1 : static_cast<int>(std::lround(t * (shaded_levels - 1)));
+  return static_cast<std::uint8_t>(std::clamp(shade, 0, shade_levels - 1) * shaded_levels + level);
+}
+
 std::uint8_t Palette::grey(int level) {
   return static_cast<std::uint8_t>(map_levels + std::clamp(level, 0, grey_levels - 1));
 }
@@ -57,6 +75,45 @@ void fill_disc(IndexedImage& image, double cx, double cy, double radius, std::ui
   const double fx = std::floor(cx), fy = std::floor(cy);
   if (fx >= clip.x0 && fx < clip.x1 && fy >= clip.y0 && fy < clip.y1)
     image.at(static_cast<int>(fx), static_cast<int>(fy)) = index;
+}
+
+namespace {
+
+// Lambert brightness of a unit sphere seen from the front at (nx, ny) (y up) from its centre, lit
+// from the upper left front, a quarter of it ambient: 0.25 .. 1.
+double sphere_brightness(double nx, double ny) {
+  constexpr double lx = -0.40, ly = 0.45, lz = 0.80;  // |l| = 1.0
+  const double nz = std::sqrt(std::max(0.0, 1.0 - nx * nx - ny * ny));
+  return 0.25 + 0.75 * std::max(0.0, nx * lx + ny * ly + nz * lz);
+}
+
+}  // namespace
+
+void fill_sphere(IndexedImage& image, double cx, double cy, double radius, double dim,
+                 std::span<const std::uint8_t> ramp, Rect clip) {
+  if (!std::isfinite(cx) || !std::isfinite(cy) || ramp.empty()) return;
+  clip.x0 = std::max(clip.x0, 0);
+  clip.y0 = std::max(clip.y0, 0);
+  clip.x1 = std::min(clip.x1, image.width);
+  clip.y1 = std::min(clip.y1, image.height);
+  const double r = std::max(radius, 0.5), r2 = radius * radius;
+  const int top = static_cast<int>(ramp.size()) - 1;
+  auto index_at = [&](double dx, double dy) {
+    const double b = dim * sphere_brightness(dx / r, -dy / r);
+    return ramp[static_cast<std::size_t>(std::clamp(static_cast<int>(std::lround(b * top)), 0, top))];
+  };
+  const int ylo = std::max(clip.y0, static_cast<int>(std::ceil(cy - radius - 0.5)));
+  const int yhi = std::min(clip.y1 - 1, static_cast<int>(std::floor(cy + radius - 0.5)));
+  for (int y = ylo; y <= yhi; ++y) {
+    const double dy = y + 0.5 - cy;
+    const double half = std::sqrt(std::max(0.0, r2 - dy * dy));
+    const int xlo = std::max(clip.x0, static_cast<int>(std::ceil(cx - half - 0.5)));
+    const int xhi = std::min(clip.x1 - 1, static_cast<int>(std::floor(cx + half - 0.5)));
+    for (int x = xlo; x <= xhi; ++x) image.at(x, y) = index_at(x + 0.5 - cx, dy);
+  }
+  const double fx = std::floor(cx), fy = std::floor(cy);
+  if (fx >= clip.x0 && fx < clip.x1 && fy >= clip.y0 && fy < clip.y1)
+    image.at(static_cast<int>(fx), static_cast<int>(fy)) = index_at(fx + 0.5 - cx, fy + 0.5 - cy);
 }
 
 void fill_triangle(IndexedImage& image, std::array<double, 2> a, std::array<double, 2> b, std::array<double, 2> c,

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "sluice/render/colormap.hpp"
@@ -28,6 +29,17 @@ struct Palette {
   // Grey `level` from 0 (white) to grey_levels - 1 (black).
   static std::uint8_t grey(int level);
   static constexpr std::uint8_t white = map_levels;
+
+  // Pictures of 3D runs shade the map instead: shade_levels brightnesses (from darkest_shade times the
+  // map's colour up to the map's colour) of shaded_levels levels of the map.
+  static constexpr int shade_levels = 4;
+  static constexpr int shaded_levels = map_levels / shade_levels;
+  static constexpr double darkest_shade = 0.45;
+  static_assert(shade_levels * shaded_levels == map_levels);
+  static Palette for_map_shaded(Colormap map);
+  // The index of t in [0, 1] (clamped; NaN gives the low end) at `shade` (0 darkest .. shade_levels - 1,
+  // the map's own colour) in a shaded palette.
+  static std::uint8_t shaded_index(double t, int shade);
   static constexpr std::uint8_t black = map_levels + grey_levels - 1;
 };
 
@@ -54,6 +66,12 @@ void fill_rect(IndexedImage& image, Rect r, std::uint8_t index);
 // (i, j) being (i + 0.5, j + 0.5)), and always the pixel containing (cx, cy), so that a particle
 // smaller than a pixel still shows. Only pixels inside `clip` are touched.
 void fill_disc(IndexedImage& image, double cx, double cy, double radius, std::uint8_t index, Rect clip);
+
+// A disc drawn as a sphere lit from the upper left front: each pixel takes ramp[k] (the ramp runs from
+// dark to light), k from the Lambert brightness of the sphere's surface there (a quarter of it
+// ambient) times `dim` (0 to 1). Pixels as fill_disc.
+void fill_sphere(IndexedImage& image, double cx, double cy, double radius, double dim,
+                 std::span<const std::uint8_t> ramp, Rect clip);
 
 // A filled triangle (vertices in pixel units), pixel centres inside it.
 void fill_triangle(IndexedImage& image, std::array<double, 2> a, std::array<double, 2> b, std::array<double, 2> c,

@@ -4,12 +4,14 @@
 
 #include <filesystem>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
 
 #include "sluice/render/color_range.hpp"
 #include "sluice/render/fields.hpp"
+#include "sluice/render/scene3d.hpp"
 
 namespace sluice::render {
 
@@ -31,6 +33,11 @@ struct RenderOptions {
   int width = 0, height = 0;     // 0: default size
   std::optional<Range> range;    // shown units; empty: from the data
   std::vector<double> times;     // png only: the frames nearest these times; empty: every frame
+  // 3D runs only: the camera (default: the iso view) or a slice. camera_flag names the flag that
+  // chose the camera (--view, --azimuth or --elevation), for the error on a 2D run.
+  std::optional<Camera> camera;
+  std::string camera_flag;
+  std::optional<Slice> slice;
 };
 
 }  // namespace sluice::render

@@ -19,6 +19,7 @@
 #include "sluice/render/frame_renderer.hpp"
 #include "sluice/render/render_error.hpp"
 #include "sluice/render/run_frames.hpp"
+#include "sluice/render/scene3d.hpp"
 
 namespace fs = std::filesystem;
 
@@ -28,27 +29,34 @@ namespace {
 
 using FrameFiles = std::vector<std::pair<std::int64_t, fs::path>>;
 
-// What the first pass keeps of a frame: its time and spacing, the extent of its particles, the
-// extremes of its fluid values and a sample of them.
+// What the first pass keeps of a frame: its time, spacing and dimension, the extent of its particles
+// (z = 0 in 2D), the extremes of its fluid values and a sample of them, and how many particles lie in
+// the slice's slab.
 struct FrameSummary {
   double time = 0.0, dx = 0.0;
-  Box box{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
-          -std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  int dimension = 2;
+  Box3 box;
   double vmin = std::numeric_limits<double>::infinity(), vmax = -std::numeric_limits<double>::infinity();
   std::vector<float> samples;
+  std::size_t in_slab = 0;
 };
 
-FrameSummary summarise(const FrameData& d, std::size_t max_samples) {
+Vec3 position(const FrameData& d, std::size_t i) {
+  return {d.x[i], d.y[i], d.z.empty() ? 0.0 : static_cast<double>(d.z[i])};
+}
+
+FrameSummary summarise(const FrameData& d, std::size_t max_samples, const std::optional<Slice>& slice) {
   FrameSummary s;
   s.time = d.time;
   s.dx = d.dx;
+  s.dimension = d.dimension;
   std::size_t fluid = 0;
   for (std::size_t i = 0; i < d.size(); ++i) {
-    if (!std::isfinite(d.x[i]) || !std::isfinite(d.y[i])) continue;
-    s.box.x0 = std::min<double>(s.box.x0, d.x[i]);
-    s.box.x1 = std::max<double>(s.box.x1, d.x[i]);
-    s.box.y0 = std::min<double>(s.box.y0, d.y[i]);
-    s.box.y1 = std::max<double>(s.box.y1, d.y[i]);
+    const Vec3 p = position(d, i);
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) continue;
+    s.box.add(p);
+    if (slice && d.dimension == 3 && std::abs(p[slice->axis] - slice->value) < 0.5 * slice->thickness_for(d.dx))
+      ++s.in_slab;
     if (d.kind[i] == 0 && std::isfinite(d.value[i])) {
       ++fluid;
       s.vmin = std::min<double>(s.vmin, d.value[i]);
@@ -138,7 +146,7 @@ void check_options(const RenderOptions& o) {
 
 // The first pass: every frame read, in parallel (so that a damaged one stops us before anything is
 // written), for the domain to show and the colour range.
-std::vector<FrameSummary> summarise_frames(const FrameFiles& files, Field field) {
+std::vector<FrameSummary> summarise_frames(const FrameFiles& files, Field field, const std::optional<Slice>& slice) {
   const std::size_t n = files.size();
   std::vector<FrameSummary> summaries(n);
   std::vector<std::exception_ptr> errors(n);
@@ -146,7 +154,7 @@ std::vector<FrameSummary> summarise_frames(const FrameFiles& files, Field field)
 #pragma omp parallel for schedule(dynamic)
   for (std::size_t i = 0; i < n; ++i) {
     try {
-      summaries[i] = summarise(read_frame(files[i].second, field), max_samples);
+      summaries[i] = summarise(read_frame(files[i].second, field), max_samples, slice);
     } catch (...) {
       errors[i] = std::current_exception();
     }
@@ -165,24 +173,101 @@ Range colour_range(const RenderOptions& o, const FieldInfo& info, const std::vec
 
 // The domain: the first frame's extent (walls and all), grown to take in particles that leave it
 // later, but by no more than a quarter of its size each way (a particle flung far away must not
-// shrink the picture), plus the particles' radius.
-Box domain_box(const std::vector<FrameSummary>& summaries, const fs::path& first_file) {
-  Box box = summaries.front().box;
-  if (!(box.x1 >= box.x0 && box.y1 >= box.y0))
-    throw FormatError(fmt::format("{}: no particle has a finite position", first_file.string()));
-  const double grow = 0.25 * std::max(box.x1 - box.x0, box.y1 - box.y0);
-  const Box limit{box.x0 - grow, box.y0 - grow, box.x1 + grow, box.y1 + grow};
-  double dx = 0.0;
+// shrink the picture).
+Box3 run_box(const std::vector<FrameSummary>& summaries, const fs::path& first_file) {
+  Box3 box = summaries.front().box;
+  if (box.empty()) throw FormatError(fmt::format("{}: no particle has a finite position", first_file.string()));
+  double size = 0.0;
+  for (int a = 0; a < 3; ++a) size = std::max(size, box.hi[a] - box.lo[a]);
+  const double grow = 0.25 * size;
+  Box3 limit;
+  for (int a = 0; a < 3; ++a) limit.lo[a] = box.lo[a] - grow, limit.hi[a] = box.hi[a] + grow;
   for (const auto& s : summaries) {
-    if (s.box.x1 < s.box.x0) continue;
-    box.x0 = std::max(limit.x0, std::min(box.x0, s.box.x0));
-    box.y0 = std::max(limit.y0, std::min(box.y0, s.box.y0));
-    box.x1 = std::min(limit.x1, std::max(box.x1, s.box.x1));
-    box.y1 = std::min(limit.y1, std::max(box.y1, s.box.y1));
-    dx = std::max(dx, s.dx);
+    if (s.box.empty()) continue;
+    for (int a = 0; a < 3; ++a) {
+      box.lo[a] = std::max(limit.lo[a], std::min(box.lo[a], s.box.lo[a]));
+      box.hi[a] = std::min(limit.hi[a], std::max(box.hi[a], s.box.hi[a]));
+    }
   }
+  return box;
+}
+
+double largest_dx(const std::vector<FrameSummary>& summaries) {
+  double dx = 0.0;
+  for (const auto& s : summaries) dx = std::max(dx, s.dx);
+  return dx;
+}
+
+// A plane box grown by the particles' radius.
+Box padded(Box b, double dx) {
   const double pad = 0.75 * dx;
-  return {box.x0 - pad, box.y0 - pad, box.x1 + pad, box.y1 + pad};
+  return {b.x0 - pad, b.y0 - pad, b.x1 + pad, b.y1 + pad};
+}
+
+// How a frame becomes what is drawn: as it is (2D), seen by the camera, or sliced; and the extent of
+// the picture.
+struct Drawing {
+  std::optional<CameraScene> scene;
+  std::optional<Slice> slice;
+  Box world;
+  std::string note;  // what the title says of the view
+  [[nodiscard]] FrameData operator()(const FrameData& d) const {
+    if (scene) return scene->view(d);
+    if (slice) return slice_frame(d, *slice);
+    return d;
+  }
+};
+
+// The run's dimension; RenderError for camera or slice flags on a 2D run, or a run of both.
+int run_dimension(const RenderOptions& o, const std::vector<FrameSummary>& summaries) {
+  const int dim = summaries.front().dimension;
+  for (const auto& s : summaries)
+    if (s.dimension != dim)
+      throw RenderError(fmt::format("the frames are {}D and {}D: a run is one or the other", dim, s.dimension));
+  if (dim == 2 && o.camera)
+    throw RenderError(fmt::format("{}: the run is 2D; the camera (--view, --azimuth, --elevation) draws 3D runs",
+                                  o.camera_flag.empty() ? "--view" : o.camera_flag));
+  if (dim == 2 && o.slice) throw RenderError("--slice: the run is 2D; slices are of 3D runs (a 2D run is drawn whole)");
+  if (o.camera && o.slice)
+    throw RenderError(fmt::format("{} and --slice: a slice is drawn flat, without a camera; give one or the other",
+                                  o.camera_flag.empty() ? "--view" : o.camera_flag));
+  return dim;
+}
+
+// RenderError for a slice outside the run or with no particle in its slab in any frame drawn.
+void check_slice(const Slice& slice, const Box3& box, const std::vector<FrameSummary>& summaries,
+                 const std::vector<std::size_t>& chosen) {
+  const int a = slice.axis;
+  if (slice.value < box.lo[a] || slice.value > box.hi[a])
+    throw RenderError(fmt::format("--slice {}={:g}: outside the run, whose particles span {} = {:.4g} to {:.4g} m",
+                                  "xyz"[a], slice.value, "xyz"[a], box.lo[a], box.hi[a]));
+  std::size_t count = 0;
+  for (const std::size_t i : chosen) count += summaries[i].in_slab;
+  if (count == 0)
+    throw RenderError(fmt::format("--slice {}={:g}: no particle lies within the slab {:.4g} m thick around it in the "
+                                  "frames drawn (--thickness sets it)",
+                                  "xyz"[a], slice.value, slice.thickness_for(summaries.front().dx)));
+}
+
+Drawing make_drawing(const RenderOptions& o, int dim, const std::vector<FrameSummary>& summaries,
+                     const std::vector<std::size_t>& chosen, const FrameFiles& files) {
+  const Box3 box = run_box(summaries, files.front().second);
+  const double dx = largest_dx(summaries);
+  Drawing d;
+  if (dim == 2) {
+    d.world = padded({box.lo[0], box.lo[1], box.hi[0], box.hi[1]}, dx);
+  } else if (o.slice) {
+    check_slice(*o.slice, box, summaries, chosen);
+    d.slice = o.slice;
+    d.world = padded(slice_box(box, o.slice->axis), dx);
+    d.note = describe(*o.slice);
+  } else {
+    const Camera camera = o.camera.value_or(named_view(default_view_name()));
+    d.scene.emplace(camera, box, read_frame(files.front().second, o.field));
+    d.world = d.scene->world();
+    d.note = describe(camera);
+  }
+  return d;
 }
 
 // The median time between frames; 0 for a single frame.
@@ -220,7 +305,7 @@ std::vector<std::size_t> chosen_frames(const std::vector<double>& times, const s
 // The title (the case and the field), pointed ends for values beyond the range anywhere in the run,
 // and time stamps with the decimals the frame interval needs.
 Style style_for(const fs::path& run_dir, const FieldInfo& info, Range range,
-                const std::vector<FrameSummary>& summaries) {
+                const std::vector<FrameSummary>& summaries, const Drawing& drawing) {
   double vmin = std::numeric_limits<double>::infinity(), vmax = -vmin;
   for (const auto& s : summaries) {
     vmin = std::min(vmin, s.vmin);
@@ -233,6 +318,11 @@ Style style_for(const fs::path& run_dir, const FieldInfo& info, Range range,
   Style style;
   const std::string case_name = case_name_of(run_dir);
   style.title = case_name.empty() ? std::string(info.title) : fmt::format("{} \u2014 {}", case_name, info.title);
+  if (!drawing.note.empty()) {
+    style.title += fmt::format(" ({})", drawing.note);
+    style.short_title = fmt::format("{} ({})", info.title, drawing.note);
+  }
+  style.shaded = drawing.scene.has_value();
   style.extend_low = vmin < range.lo - tolerance;
   style.extend_high = vmax > range.hi + tolerance;
   style.time_decimals = decimals_for(interval);
@@ -241,7 +331,7 @@ Style style_for(const fs::path& run_dir, const FieldInfo& info, Range range,
 
 // PNG pictures of the chosen frames: into OUTPUT_DIR/snapshots/ or -o's directory, or the one file -o
 // names.
-std::vector<fs::path> write_snapshots(const FrameRenderer& renderer, const FrameFiles& files,
+std::vector<fs::path> write_snapshots(const FrameRenderer& renderer, const Drawing& drawing, const FrameFiles& files,
                                       const std::vector<std::size_t>& chosen, const fs::path& run_dir,
                                       const RenderOptions& o) {
   fs::path dir = o.output.empty() ? run_dir / "snapshots" : o.output;
@@ -262,7 +352,7 @@ std::vector<fs::path> write_snapshots(const FrameRenderer& renderer, const Frame
   parallel_in_order(
       chosen.size(),
       [&](std::size_t k) {
-        const FrameData d = read_frame(files[chosen[k]].second, o.field);
+        const FrameData d = drawing(read_frame(files[chosen[k]].second, o.field));
         write_png(paths[k], renderer.draw(d), renderer.palette());
         return 0;
       },
@@ -272,8 +362,8 @@ std::vector<fs::path> write_snapshots(const FrameRenderer& renderer, const Frame
 
 // The chosen frames as a GIF or MP4 at `path`, drawn in parallel and encoded in order. Returns the
 // frame rate as played.
-double write_animation(const FrameRenderer& renderer, const FrameFiles& files, const std::vector<std::size_t>& chosen,
-                       const fs::path& path, const RenderOptions& o) {
+double write_animation(const FrameRenderer& renderer, const Drawing& drawing, const FrameFiles& files,
+                       const std::vector<std::size_t>& chosen, const fs::path& path, const RenderOptions& o) {
   if (path.has_parent_path()) create_directories_or_throw(path.parent_path());
   const Layout& L = renderer.layout();
   std::unique_ptr<AnimationWriter> writer;
@@ -286,7 +376,7 @@ double write_animation(const FrameRenderer& renderer, const FrameFiles& files, c
     writer = open_mp4(path, L.width, L.height, renderer.palette(), o.fps);
   }
   parallel_in_order(
-      chosen.size(), [&](std::size_t k) { return renderer.draw(read_frame(files[chosen[k]].second, o.field)); },
+      chosen.size(), [&](std::size_t k) { return renderer.draw(drawing(read_frame(files[chosen[k]].second, o.field))); },
       [&](std::size_t, const IndexedImage& image) { writer->add(image); });
   writer->finish();
   return fps;
@@ -296,14 +386,16 @@ double write_animation(const FrameRenderer& renderer, const FrameFiles& files, c
 
 RenderResult render_run(const fs::path& run_dir, const RenderOptions& o) {
   const auto start = std::chrono::steady_clock::now();
-  const FieldInfo& info = field_info(o.field);
   check_options(o);
   const FrameFiles files = list_frames(run_dir);
-  const std::vector<FrameSummary> summaries = summarise_frames(files, o.field);
+  const std::vector<FrameSummary> summaries = summarise_frames(files, o.field, o.slice);
+  const int dim = run_dimension(o, summaries);
+  const FieldInfo info = field_info(o.field, dim);
   const Range range = colour_range(o, info, summaries);
-  const Box box = domain_box(summaries, files.front().second);
   const std::vector<std::size_t> chosen = chosen_frames(o.times, summaries);
-  const FrameRenderer renderer(info, range, box, o.width, o.height, style_for(run_dir, info, range, summaries));
+  const Drawing drawing = make_drawing(o, dim, summaries, chosen, files);
+  const FrameRenderer renderer(info, range, drawing.world, o.width, o.height,
+                               style_for(run_dir, info, range, summaries, drawing));
 
   RenderResult result;
   result.width = renderer.layout().width;
@@ -314,12 +406,12 @@ RenderResult render_run(const fs::path& run_dir, const RenderOptions& o) {
   result.unit = info.unit;
   result.frames = static_cast<int>(chosen.size());
   if (o.format == Format::png) {
-    result.files = write_snapshots(renderer, files, chosen, run_dir, o);
+    result.files = write_snapshots(renderer, drawing, files, chosen, run_dir, o);
     result.fps = 0.0;
   } else {
     const fs::path path =
         o.output.empty() ? run_dir / (std::string(info.name) + std::string(format_extension(o.format))) : o.output;
-    result.fps = write_animation(renderer, files, chosen, path, o);
+    result.fps = write_animation(renderer, drawing, files, chosen, path, o);
     result.files = {path};
   }
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
