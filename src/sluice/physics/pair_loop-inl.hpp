@@ -113,10 +113,14 @@ struct CellBlock {
 // What a pair returns (Pair::Rates<T>): `opposite`, numbers i receives and j receives with the
 // opposite sign (a force), then `to_i` and `to_j`, numbers each side receives of its own (a density
 // rate); the output arrays are in that order.
-template <int Dim, class Pair>
+//
+// For a wall particle i (`WallI`), only the lanes of fluid candidates count: a wall-wall pair gives
+// nothing that is used (the walls do not move, the continuity equation sees them at rest, and
+// density diffusion acts between fluid particles only), so vectors of wall candidates are skipped.
+template <int Dim, bool WallI, class Pair>
 HWY_INLINE void evaluate_pairs(const Pair& shared_pair, std::uint32_t i, const std::array<double, Dim>& xi,
-                               const std::array<const double*, Dim>& x, std::size_t size, double support2,
-                               double min_r2, CellBlock<Dim, Pair::kOutputs>& block,
+                               const std::array<const double*, Dim>& x, const double* fluid, std::size_t size,
+                               double support2, double min_r2, CellBlock<Dim, Pair::kOutputs>& block,
                                const std::array<double*, Pair::kOutputs>& out, double& speed2_max, double& r2_min) {
   constexpr std::size_t A = Pair::kOpposite, S = Pair::kOwn;
   // A copy of its own: the compiler then knows that the stores below do not change the constants of
@@ -146,7 +150,9 @@ HWY_INLINE void evaluate_pairs(const Pair& shared_pair, std::uint32_t i, const s
         r_ij[c] = Pack(xi[c]) - simd::load_at(x[c], j, size);
         r2 = hn::MulAdd(r_ij[c].v, r_ij[c].v, r2);
       }
-      const simd::Mask hit{hn::And(valid, hn::And(hn::Lt(r2, upper), hn::Gt(r2, lower)))};
+      auto near = hn::And(valid, hn::And(hn::Lt(r2, upper), hn::Gt(r2, lower)));
+      if constexpr (WallI) near = hn::And(near, hn::Ne(simd::load_at(fluid, j, size).v, hn::Zero(d)));
+      const simd::Mask hit{near};
       if (hn::AllFalse(d, hit.m)) continue;
       const auto sj = pair.template side<Pack>([&](const double* a) { return simd::load_at(a, j, size); });
       const auto rates = pair(si, sj, r_ij);
@@ -207,8 +213,12 @@ HWY_INLINE void for_each_pair(const Pair& pair, const CellGrid<Dim>& grid, const
           }
           std::array<double, Dim> xi{};
           for (int d = 0; d < Dim; ++d) xi[d] = x[d][i];
-          evaluate_pairs<Dim>(pair, i, xi, x, static_cast<std::size_t>(n), support2, min_r2, block, out, speed2_max,
-                              r2_min);
+          if (fluid[i] == 0.0)
+            evaluate_pairs<Dim, true>(pair, i, xi, x, fluid, static_cast<std::size_t>(n), support2, min_r2, block, out,
+                                      speed2_max, r2_min);
+          else
+            evaluate_pairs<Dim, false>(pair, i, xi, x, fluid, static_cast<std::size_t>(n), support2, min_r2, block,
+                                       out, speed2_max, r2_min);
         }
         block.finish(out);
       }
