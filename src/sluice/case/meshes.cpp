@@ -29,15 +29,19 @@ void load_mesh(Region& r, const Case& c, const std::string& source, const std::s
   };
   if (r.file.empty()) fail(quote(r.file), "no file name; expected the path of an .stl or .obj file");
   const fs::path given(r.file);
+  const fs::path path = given.is_absolute() || c.mesh_directory.empty() ? given : fs::path(c.mesh_directory) / given;
+  std::error_code ec;
+  const bool on_disk = fs::exists(path, ec);
+  // A relative name may be a built-in mesh: first for a built-in case, after the case file's directory
+  // for a case file (so that `sluice init --from` a case with a mesh gives a case that runs).
+  std::optional<std::string_view> built_in;
+  if (given.is_relative() && (c.mesh_directory.empty() || !on_disk))
+    built_in = builtin_mesh(given.lexically_normal().generic_string());
   std::string bytes;
   std::string shown = quote(r.file);  // how messages name the file
-  std::optional<std::string_view> built_in;
-  if (given.is_relative() && c.mesh_directory.empty()) built_in = builtin_mesh(given.lexically_normal().generic_string());
   if (built_in) {
     bytes = std::string(*built_in);
   } else {
-    const fs::path path = given.is_absolute() || c.mesh_directory.empty() ? given : fs::path(c.mesh_directory) / given;
-    std::error_code ec;
     const fs::path absolute = fs::absolute(path, ec).lexically_normal();
     if (path.string() != r.file) shown = fmt::format("{} ({})", quote(r.file), path.string());
     try {

@@ -10,9 +10,10 @@
 
 namespace sluice {
 
-// Sets r.mesh of every mesh region of c. A relative file name is looked up in c.mesh_directory, or
-// when that is empty among the meshes built into the binary (cases/<file> of the sources), then in the
-// current directory. A file read from disk has its name made absolute, so that the case written into a
+// Sets r.mesh of every mesh region of c. A relative file name is looked up in c.mesh_directory (the
+// case file's), then among the meshes built into the binary (cases/<file> of the sources); when
+// c.mesh_directory is empty (a built-in case), among the built-in meshes first, then in the current
+// directory. A file read from disk has its name made absolute, so that the case written into a
 // checkpoint finds it again. Throws CaseError "<source>: [[wall]] number N: ..." naming the file and
 // what is wrong: a mesh in a 2D case, a missing or unreadable file, one that is not STL or OBJ, or a
 // mesh that is empty, open, degenerate, inconsistently oriented or inside out.

@@ -198,8 +198,8 @@ const std::vector<Param<Region>>& region_params() {
       used_by(is_mesh,
               declare("file", &Region::file, "", std::string(""), unbounded_lower, unbounded_upper,
                       "Mesh (3D): an STL (ASCII or binary) or OBJ file of a closed triangle surface, its normals "
-                      "outwards; a relative path is relative to the case file's directory (for a built-in case, to "
-                      "the cases/ directory of the sources, whose meshes are built in).")),
+                      "outwards; a relative path is relative to the case file's directory; the meshes of the sources' "
+                      "cases/ directory are built in and found by that relative name (\"meshes/cylinder.stl\").")),
       optional_for(is_mesh, declare("scale", &Region::scale, "", 1.0, 1e-9, 1e9,
                                     "Mesh: factor on the file's coordinates (0.001 for a file in millimetres).")),
       optional_for(is_mesh, declare("offset", &Region::offset, "m", Vec3{}, unbounded_lower, unbounded_upper,
