@@ -103,7 +103,7 @@ struct Checker {
     const auto& [lo, hi] = bounds;
     for (int d = 0; d < c.dimension; ++d)
       if (lo[d] < -tol || hi[d] > tank[d] + tol)
-        fail(fmt::format("[[{}]] number {}{} (from {} to {}) reaches outside the tank {}", what, i + 1, kind,
+        fail(fmt::format("[[{}]] number {} ({}from {} to {}) reaches outside the tank {}", what, i + 1, kind,
                          format_vector(lo, c.dimension), format_vector(hi, c.dimension), fmt::join(extent, " x ")));
   }
 
@@ -111,7 +111,7 @@ struct Checker {
     if (c.water.empty()) fail("no [[water]] region; a case needs at least one");
     for (std::size_t i = 0; i < c.water.size(); ++i)
       check_inside_tank(region_bounds(c.water[i], "water", i), "water", i,
-                        c.water[i].shape == Shape::mesh ? " (a mesh)" : "");
+                        c.water[i].shape == Shape::mesh ? "a mesh " : "");
   }
 
   // Boxes and polygons may reach into the tank's walls; a mesh, whose filling is a lattice of its own,
@@ -119,7 +119,7 @@ struct Checker {
   void check_walls() const {
     for (std::size_t i = 0; i < c.walls.size(); ++i) {
       const auto bounds = region_bounds(c.walls[i], "wall", i);
-      if (c.walls[i].shape == Shape::mesh) check_inside_tank(bounds, "wall", i, " (a mesh)");
+      if (c.walls[i].shape == Shape::mesh) check_inside_tank(bounds, "wall", i, "a mesh ");
     }
   }
 

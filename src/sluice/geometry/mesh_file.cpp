@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -20,6 +21,14 @@ std::string lower_extension(const std::string& name) {
   if (!ext.empty()) ext.erase(0, 1);
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
   return ext;
+}
+
+// assimp keeps coordinates in single precision. The double nearest to the shortest decimal that
+// gives back the float: 0.1 where a file says 0.1 (rather than 0.100000001490116), so that a mesh's
+// corners fall where its file puts them, on the particle lattice if they are meant to.
+double as_written(ai_real x) {
+  const std::string shortest = fmt::format("{}", x);
+  return std::strtod(shortest.c_str(), nullptr);
 }
 
 }  // namespace
@@ -49,6 +58,9 @@ TriangleMesh read_mesh(std::string_view bytes, const std::string& name) {
       ext.c_str());
   if (scene == nullptr) {
     std::string why = importer.GetErrorString();
+    // assimp names the bytes read from memory by a made-up file name.
+    for (const std::string& made_up : {"$$$___magic___$$$." + ext, std::string("$$$___magic___$$$")})
+      for (auto at = why.find(made_up); at != std::string::npos; at = why.find(made_up)) why.replace(at, made_up.size(), "the file");
     while (!why.empty() && (why.back() == '\n' || why.back() == ' ' || why.back() == '.')) why.pop_back();
     throw MeshError(fmt::format("not a readable {} file ({}); expected a closed triangle mesh in {} format",
                                 ext == "stl" ? "STL" : "OBJ", why.empty() ? "unknown reason" : why,
@@ -57,7 +69,7 @@ TriangleMesh read_mesh(std::string_view bytes, const std::string& name) {
   TriangleMesh m;
   std::map<Vec<3>, std::uint32_t> index_of;  // equal corners joined
   auto vertex = [&](const aiVector3D& v) {
-    const Vec<3> p{static_cast<double>(v.x), static_cast<double>(v.y), static_cast<double>(v.z)};
+    const Vec<3> p{as_written(v.x), as_written(v.y), as_written(v.z)};
     const auto [it, added] = index_of.emplace(p, static_cast<std::uint32_t>(m.vertices.size()));
     if (added) m.vertices.push_back(p);
     return it->second;
