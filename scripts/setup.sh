@@ -8,6 +8,7 @@ packages=(
   libcli11-dev libtomlplusplus-dev libfmt-dev zlib1g-dev libhwy-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libpng-dev libgif-dev libfreetype-dev fonts-dejavu-core
+  libassimp-dev libcgal-dev
   python3 python3-numpy python3-meshio python3-pil
 )
 # `make fuzz` (scripts/setup.sh fuzz) also needs clang with its libFuzzer and sanitizer runtimes, and

@@ -274,6 +274,28 @@ TEST_F(Cli, CaseIsADirectory) {
   expect_only({"adir"});
 }
 
+// A mesh that is not closed (a cube without its top), from a case file; a missing mesh, from --set.
+TEST_F(Cli, BadMeshFile) {
+  std::string open = "solid open\n";
+  const char* corners[10][3] = {{"0.1 0.1 0.1", "0.1 0.3 0.1", "0.3 0.3 0.1"}, {"0.1 0.1 0.1", "0.3 0.3 0.1", "0.3 0.1 0.1"},
+                                {"0.1 0.1 0.1", "0.3 0.1 0.1", "0.3 0.1 0.3"}, {"0.1 0.1 0.1", "0.3 0.1 0.3", "0.1 0.1 0.3"},
+                                {"0.1 0.3 0.1", "0.1 0.3 0.3", "0.3 0.3 0.3"}, {"0.1 0.3 0.1", "0.3 0.3 0.3", "0.3 0.3 0.1"},
+                                {"0.1 0.1 0.1", "0.1 0.1 0.3", "0.1 0.3 0.3"}, {"0.1 0.1 0.1", "0.1 0.3 0.3", "0.1 0.3 0.1"},
+                                {"0.3 0.1 0.1", "0.3 0.3 0.1", "0.3 0.3 0.3"}, {"0.3 0.1 0.1", "0.3 0.3 0.3", "0.3 0.1 0.3"}};
+  for (const auto& t : corners)
+    open += fmt::format("facet normal 0 0 0\nouter loop\nvertex {}\nvertex {}\nvertex {}\nendloop\nendfacet\n", t[0],
+                        t[1], t[2]);
+  write("open.stl", open + "endsolid open\n");
+  write("bad.toml",
+        "[domain]\ndimension = 3\n[tank]\nwidth = 1.0\ndepth = 1.0\nheight = 1.0\n"
+        "[[water]]\nmin = [0.0, 0.0, 0.0]\nmax = [1.0, 1.0, 0.2]\n[[wall]]\nshape = \"mesh\"\nfile = \"open.stl\"\n");
+  expect_bad_input(sluice(with_tiny({"run", "bad.toml"})),
+                   {"bad.toml: [[wall]] number 1: mesh file \"open.stl\"", "it is not closed", "expected a closed surface"});
+  expect_bad_input(sluice({"run", "dam_break_3d", "--set", "wall[0].file=nowhere.stl", "-q"}),
+                   {"--set wall[0].file=nowhere.stl", "mesh file \"nowhere.stl\"", "no such file"});
+  expect_only({"bad.toml", "open.stl"});
+}
+
 // ---------------------------------------------------------------------------------------------
 // --set mistakes
 

@@ -16,6 +16,17 @@
 
 using namespace sluice;
 
+namespace {
+
+Region box_region(const Vec3& min, const Vec3& max) {
+  Region r;
+  r.min = min;
+  r.max = max;
+  return r;
+}
+
+}  // namespace
+
 TEST(Polygon, ContainsAndClosestBoundaryPoint) {
   const Polygon box = Polygon::box({0.0, 0.0}, {2.0, 1.0});
   EXPECT_TRUE(box.contains({1.0, 0.5}));
@@ -53,7 +64,7 @@ TEST(Setup, DefaultTankHasThreeWallLayersAtDxSpacing) {
 
 TEST(Setup, WaterOverlappingAnObstacleLeavesNoFluidOnAWallPoint) {
   Case c = *load_builtin_case("dam_break");
-  c.walls.push_back(Region{Shape::box, {5.0, 0.0, 0.0}, {6.0, 1.0, 0.0}, {}});
+  c.walls.push_back(box_region({5.0, 0.0, 0.0}, {6.0, 1.0, 0.0}));
   const sluice::Setup<2> s = build_setup<2>(c);
   double closest = 1e9;
   for (std::size_t i = 0; i < s.particles.size(); ++i) {
@@ -292,7 +303,7 @@ Vec2 ghost_of(const WallGhosts<2>& g, const Particles<2>& p, double x, double y)
 
 TEST(WallGhosts, MirroredThroughTheNearestWetSurfaceAndThroughCorners) {
   Case c = *load_builtin_case("dam_break");  // dx = 0.2, three layers
-  c.walls.push_back(Region{Shape::box, {9.0, 0.0, 0.0}, {10.0, 1.0, 0.0}, {}});  // a block on the floor
+  c.walls.push_back(box_region({9.0, 0.0, 0.0}, {10.0, 1.0, 0.0}));  // a block on the floor
   const sluice::Setup<2> s = build_setup<2>(c);
   const WallGhosts<2> g = wall_ghosts(s.particles, c);
   auto expect_ghost = [&](double x, double y, double gx, double gy) {

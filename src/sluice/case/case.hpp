@@ -6,11 +6,13 @@
 #pragma once
 
 #include <array>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "sluice/core/vec.hpp"
+#include "sluice/geometry/triangle_mesh.hpp"
 
 namespace sluice {
 
@@ -28,8 +30,8 @@ inline constexpr std::array<std::string_view, 2> wall_slip_names = {"no_slip", "
 enum class Integrator { predictor_corrector, euler };
 inline constexpr std::array<std::string_view, 2> integrator_names = {"predictor_corrector", "euler"};
 
-enum class Shape { box, polygon };
-inline constexpr std::array<std::string_view, 2> shape_names = {"box", "polygon"};
+enum class Shape { box, polygon, mesh };
+inline constexpr std::array<std::string_view, 3> shape_names = {"box", "polygon", "mesh"};
 
 enum class ProbeType { pressure, gauge, front };
 inline constexpr std::array<std::string_view, 3> probe_type_names = {"pressure", "gauge", "front"};
@@ -41,12 +43,17 @@ constexpr std::string_view name_of(E value, const std::array<std::string_view, N
   return names[static_cast<std::size_t>(value)];
 }
 
-// A water region or a solid wall: a box (min, max) or, in 2D, a polygon (its points, in either order).
+// A water region or a solid wall: a box (min, max), in 2D a polygon (its points, in either order), in
+// 3D a closed triangle mesh read from a file (STL or OBJ), scaled and moved.
 struct Region {
   Shape shape = Shape::box;
   Vec3 min{};
   Vec3 max{};
   std::vector<Vec2> points;  // polygon vertices, implicitly closed
+  std::string file;          // mesh file; made absolute once read from disk (see case/meshes.hpp)
+  double scale = 1.0;        // mesh vertex v is placed at scale * v + offset
+  Vec3 offset{};
+  std::shared_ptr<const TriangleMesh> mesh;  // the placed, checked mesh (set by the loader, not a key)
 };
 
 // A probe sampled during the run (see io/probes.hpp).
@@ -113,6 +120,9 @@ struct Case {
 
   std::vector<Region> water;
   std::vector<Region> walls;
+  // Where relative mesh file names are looked up: the case file's directory; empty for built-in cases
+  // and stored cases (the meshes shipped in cases/, then the current directory). Not a key.
+  std::string mesh_directory;
   std::vector<Probe> probes;
 
   [[nodiscard]] double smoothing_length() const { return h_over_dx * dx; }

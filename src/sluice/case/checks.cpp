@@ -76,27 +76,51 @@ struct Checker {
     return {lo, hi};
   }
 
-  std::pair<Vec3, Vec3> region_bounds(const Region& r, const std::string& what, std::size_t i) const {
-    return r.shape == Shape::box ? box_bounds(r, what, i) : polygon_bounds(r, what, i);
+  // The bounding box of a mesh region, read and checked by load_meshes (case/meshes.hpp).
+  std::pair<Vec3, Vec3> mesh_bounds(const Region& r, const std::string& what, std::size_t i) const {
+    if (c.dimension != 3 || r.mesh == nullptr)
+      fail(fmt::format("[[{}]] number {}: {}[{}].shape = \"mesh\" needs a 3D case with its mesh read", what, i + 1,
+                       what, i));
+    return {r.mesh->lower(), r.mesh->upper()};
   }
 
-  void check_water() const {
-    if (c.water.empty()) fail("no [[water]] region; a case needs at least one");
+  std::pair<Vec3, Vec3> region_bounds(const Region& r, const std::string& what, std::size_t i) const {
+    switch (r.shape) {
+      case Shape::box: return box_bounds(r, what, i);
+      case Shape::polygon: return polygon_bounds(r, what, i);
+      case Shape::mesh: return mesh_bounds(r, what, i);
+    }
+    return box_bounds(r, what, i);
+  }
+
+  // A region's bounding box within the tank (with a relative tolerance).
+  void check_inside_tank(const std::pair<Vec3, Vec3>& bounds, const std::string& what, std::size_t i,
+                         const std::string& kind) const {
     const Vec3 tank = c.tank_size();
     std::vector<std::string> extent;
     for (int d = 0; d < c.dimension; ++d) extent.push_back(fmt::format("[0, {}]", tank[d]));
     const double tol = 1e-9 * *std::max_element(tank.begin(), tank.begin() + c.dimension);
-    for (std::size_t i = 0; i < c.water.size(); ++i) {
-      const auto [lo, hi] = region_bounds(c.water[i], "water", i);
-      for (int d = 0; d < c.dimension; ++d)
-        if (lo[d] < -tol || hi[d] > tank[d] + tol)
-          fail(fmt::format("[[water]] number {} (from {} to {}) reaches outside the tank {}", i + 1,
-                           format_vector(lo, c.dimension), format_vector(hi, c.dimension), fmt::join(extent, " x ")));
-    }
+    const auto& [lo, hi] = bounds;
+    for (int d = 0; d < c.dimension; ++d)
+      if (lo[d] < -tol || hi[d] > tank[d] + tol)
+        fail(fmt::format("[[{}]] number {} ({}from {} to {}) reaches outside the tank {}", what, i + 1, kind,
+                         format_vector(lo, c.dimension), format_vector(hi, c.dimension), fmt::join(extent, " x ")));
   }
 
+  void check_water() const {
+    if (c.water.empty()) fail("no [[water]] region; a case needs at least one");
+    for (std::size_t i = 0; i < c.water.size(); ++i)
+      check_inside_tank(region_bounds(c.water[i], "water", i), "water", i,
+                        c.water[i].shape == Shape::mesh ? "a mesh " : "");
+  }
+
+  // Boxes and polygons may reach into the tank's walls; a mesh, whose filling is a lattice of its own,
+  // must lie inside the tank.
   void check_walls() const {
-    for (std::size_t i = 0; i < c.walls.size(); ++i) region_bounds(c.walls[i], "wall", i);
+    for (std::size_t i = 0; i < c.walls.size(); ++i) {
+      const auto bounds = region_bounds(c.walls[i], "wall", i);
+      if (c.walls[i].shape == Shape::mesh) check_inside_tank(bounds, "wall", i, "a mesh ");
+    }
   }
 
   void check_probes() const {

@@ -11,6 +11,7 @@
 
 #include "sluice/case/case_error.hpp"
 #include "sluice/case/checks.hpp"
+#include "sluice/case/meshes.hpp"
 #include "sluice/case/param_fields.hpp"
 #include "sluice/case/suggest.hpp"
 #include "sluice/case/toml_values.hpp"
@@ -130,7 +131,8 @@ class Loader {
   void check_item_keys(const Owner& item, const std::set<std::string>& given, const toml::table& t,
                        const std::vector<Param<Owner>>& params, const std::string& section, std::size_t index) const {
     for (const auto& p : params) {
-      const bool required = std::holds_alternative<std::monostate>(p.default_value) || (p.applies && p.applies(item));
+      const bool required =
+          std::holds_alternative<std::monostate>(p.default_value) || (p.applies && p.applies(item) && !p.optional);
       if (required && !given.contains(p.key))
         throw CaseError(fmt::format("{}: [[{}]] number {} has no '{}' ({}); expected {}", where(source_, t), section,
                                     index + 1, p.key, p.description, expectation(p, dimension_)));
@@ -165,12 +167,15 @@ int dimension_of(const toml::table& root, const std::string& source) {
 
 }  // namespace
 
-Case parse_case(std::string_view toml_text, const std::string& source) {
+Case parse_case(std::string_view toml_text, const std::string& source, const std::string& mesh_directory) {
   const toml::table root = parse_toml(toml_text, source);
   Loader loader(source, dimension_of(root, source));
   for (const auto& [name, node] : root) loader.read(std::string(name.str()), node);
-  validate_case(loader.result(), source);
-  return loader.result();
+  Case c = loader.result();
+  c.mesh_directory = mesh_directory;
+  load_meshes(c, source);
+  validate_case(c, source);
+  return c;
 }
 
 Case load_case_file(const std::filesystem::path& path) {
@@ -184,7 +189,9 @@ Case load_case_file(const std::filesystem::path& path) {
   if (!in) throw CaseError(fmt::format("{}: cannot be read", path.string()));
   std::ostringstream text;
   text << in.rdbuf();
-  return parse_case(text.str(), path.string());
+  // Mesh files are found beside the case file.
+  const std::filesystem::path directory = std::filesystem::absolute(path, ec).parent_path();
+  return parse_case(text.str(), path.string(), ec ? std::string(".") : directory.string());
 }
 
 }  // namespace sluice

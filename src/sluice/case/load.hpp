@@ -10,8 +10,9 @@
 
 namespace sluice {
 
-// `source` names the text in error messages (a path, or "built-in case 'x'").
-Case parse_case(std::string_view toml_text, const std::string& source);
+// `source` names the text in error messages (a path, or "built-in case 'x'"); relative mesh file
+// names are looked up in `mesh_directory` (empty: the built-in meshes, then the current directory).
+Case parse_case(std::string_view toml_text, const std::string& source, const std::string& mesh_directory = {});
 Case load_case_file(const std::filesystem::path& path);
 
 }  // namespace sluice

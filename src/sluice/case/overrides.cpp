@@ -9,6 +9,7 @@
 
 #include "sluice/case/case_error.hpp"
 #include "sluice/case/checks.hpp"
+#include "sluice/case/meshes.hpp"
 #include "sluice/case/param_fields.hpp"
 #include "sluice/case/suggest.hpp"
 #include "sluice/case/toml_values.hpp"
@@ -148,13 +149,17 @@ void apply_one_override(Case& c, std::string_view assignment) {
 
 void apply_override(Case& c, std::string_view assignment) {
   apply_one_override(c, assignment);
+  load_meshes(c, fmt::format("--set {}", assignment));
   validate_case(c, fmt::format("--set {}", assignment));
 }
 
 void apply_overrides(Case& c, const std::vector<std::string>& assignments) {
   for (const auto& a : assignments) apply_one_override(c, a);
-  if (!assignments.empty())
-    validate_case(c, fmt::format("with --set {}", fmt::join(assignments, " --set ")));
+  if (!assignments.empty()) {
+    const std::string source = fmt::format("with --set {}", fmt::join(assignments, " --set "));
+    load_meshes(c, source);
+    validate_case(c, source);
+  }
 }
 
 }  // namespace sluice

@@ -68,8 +68,17 @@ Param<Owner> used_by(bool (*applies)(const Owner&), Param<Owner> p) {
   return p;
 }
 
+// A key that only the items of `applies` use, which they may leave out.
+template <class Owner>
+Param<Owner> optional_for(bool (*applies)(const Owner&), Param<Owner> p) {
+  p.applies = applies;
+  p.optional = true;
+  return p;
+}
+
 bool is_box(const Region& r) { return r.shape == Shape::box; }
 bool is_polygon(const Region& r) { return r.shape == Shape::polygon; }
+bool is_mesh(const Region& r) { return r.shape == Shape::mesh; }
 
 }  // namespace
 
@@ -177,7 +186,8 @@ const std::vector<Param<Case>>& case_params() {
 const std::vector<Param<Region>>& region_params() {
   static const std::vector<Param<Region>> params = {
       declare_choice<&Region::shape>("shape", Shape::box, shape_names,
-                                     "Shape of the region: a box (min, max) or, in 2D, a polygon (points)."),
+                                     "Shape of the region: a box (min, max), in 2D a polygon (points), in 3D a "
+                                     "closed triangle mesh read from a file (file, scale, offset)."),
       used_by(is_box, declare("min", &Region::min, "m", Vec3{}, unbounded_lower, unbounded_upper,
                               "Box: lower corner [x, y] (2D) or [x, y, z] (3D).")),
       used_by(is_box, declare("max", &Region::max, "m", Vec3{}, unbounded_lower, unbounded_upper,
@@ -185,6 +195,15 @@ const std::vector<Param<Region>>& region_params() {
       used_by(is_polygon,
               declare("points", &Region::points, "m", std::vector<Vec2>{}, unbounded_lower, unbounded_upper,
                       "Polygon (2D): its corners [[x, y], ...] in order around it (at least 3; closed automatically).")),
+      used_by(is_mesh,
+              declare("file", &Region::file, "", std::string(""), unbounded_lower, unbounded_upper,
+                      "Mesh (3D): an STL (ASCII or binary) or OBJ file of a closed triangle surface, its normals "
+                      "outwards; a relative path is relative to the case file's directory; the meshes of the sources' "
+                      "cases/ directory are built in and found by that relative name (\"meshes/cylinder.stl\").")),
+      optional_for(is_mesh, declare("scale", &Region::scale, "", 1.0, 1e-9, 1e9,
+                                    "Mesh: factor on the file's coordinates (0.001 for a file in millimetres).")),
+      optional_for(is_mesh, declare("offset", &Region::offset, "m", Vec3{}, unbounded_lower, unbounded_upper,
+                                    "Mesh: moves it after scaling; vertex v is placed at scale * v + offset.")),
   };
   return params;
 }

@@ -41,6 +41,7 @@ struct Param {
   // For keys of an item that only some items use (a box's min/max, a polygon's points): whether the
   // key applies to this item. Keys that do not apply are left out of the template.
   bool (*applies)(const Owner&) = nullptr;
+  bool optional = false;  // with `applies`: the items it applies to may leave it out (its default is used)
 };
 
 struct Section {

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <stdexcept>
 
 #include "sluice/geometry/box.hpp"
 #include "sluice/geometry/lattice.hpp"
+#include "sluice/geometry/mesh_solid.hpp"
 #include "sluice/geometry/polygon.hpp"
 #include "sluice/neighbors/cell_grid.hpp"
 #include "sluice/physics/eos.hpp"
@@ -148,6 +150,11 @@ template <int Dim>
 std::shared_ptr<const Solid<Dim>> region_solid(const Region& r) {
   if constexpr (Dim == 2)
     if (r.shape == Shape::polygon) return std::make_shared<Polygon>(r.points);
+  if constexpr (Dim == 3)
+    if (r.shape == Shape::mesh) {
+      if (r.mesh == nullptr) throw std::invalid_argument("a mesh region without its mesh (the case loader reads it)");
+      return std::make_shared<MeshSolid>(*r.mesh);
+    }
   return make_box<Dim>(first<Dim>(r.min), first<Dim>(r.max));
 }
 

@@ -22,7 +22,8 @@ struct Setup {
 // Number of wall particle layers: enough to fill a depth of 2h at spacing dx.
 int wall_layers(const Case& c);
 
-// The solid of a region: a polygon in 2D (a box is a 4-point polygon there), a box in 3D.
+// The solid of a region: a polygon in 2D (a box is a 4-point polygon there), a box or a mesh (its
+// MeshSolid) in 3D.
 template <int Dim>
 std::shared_ptr<const Solid<Dim>> region_solid(const Region& r);
 

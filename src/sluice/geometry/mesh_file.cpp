@@ -1,0 +1,92 @@
+#include "sluice/geometry/mesh_file.hpp"
+
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+namespace sluice {
+
+namespace {
+
+std::string lower_extension(const std::string& name) {
+  std::string ext = std::filesystem::path(name).extension().string();
+  if (!ext.empty()) ext.erase(0, 1);
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+  return ext;
+}
+
+// assimp keeps coordinates in single precision. The double nearest to the shortest decimal that
+// gives back the float: 0.1 where a file says 0.1 (rather than 0.100000001490116), so that a mesh's
+// corners fall where its file puts them, on the particle lattice if they are meant to.
+double as_written(ai_real x) {
+  const std::string shortest = fmt::format("{}", x);
+  return std::strtod(shortest.c_str(), nullptr);
+}
+
+}  // namespace
+
+std::string read_mesh_bytes(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw MeshError("no such file");
+  if (std::filesystem::is_directory(path, ec)) throw MeshError("is a directory; expected a mesh file (.stl or .obj)");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw MeshError("cannot be read");
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  if (in.bad()) throw MeshError("cannot be read");
+  return bytes.str();
+}
+
+TriangleMesh read_mesh(std::string_view bytes, const std::string& name) {
+  const std::string ext = lower_extension(name);
+  if (ext != "stl" && ext != "obj")
+    throw MeshError(fmt::format("unknown mesh format '.{}'; expected a .stl (ASCII or binary) or .obj file", ext));
+  if (bytes.empty()) throw MeshError("the file is empty; expected a closed triangle mesh");
+  Assimp::Importer importer;
+  // Vertex transforms of the file's node tree are applied, polygons split into triangles; points and
+  // lines are kept (and refused below).
+  const aiScene* scene = importer.ReadFileFromMemory(
+      bytes.data(), bytes.size(), aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_ValidateDataStructure,
+      ext.c_str());
+  if (scene == nullptr) {
+    std::string why = importer.GetErrorString();
+    // assimp names the bytes read from memory by a made-up file name.
+    for (const std::string& made_up : {"$$$___magic___$$$." + ext, std::string("$$$___magic___$$$")})
+      for (auto at = why.find(made_up); at != std::string::npos; at = why.find(made_up)) why.replace(at, made_up.size(), "the file");
+    while (!why.empty() && (why.back() == '\n' || why.back() == ' ' || why.back() == '.')) why.pop_back();
+    throw MeshError(fmt::format("not a readable {} file ({}); expected a closed triangle mesh in {} format",
+                                ext == "stl" ? "STL" : "OBJ", why.empty() ? "unknown reason" : why,
+                                ext == "stl" ? "ASCII or binary STL" : "Wavefront OBJ"));
+  }
+  TriangleMesh m;
+  std::map<Vec<3>, std::uint32_t> index_of;  // equal corners joined
+  auto vertex = [&](const aiVector3D& v) {
+    const Vec<3> p{as_written(v.x), as_written(v.y), as_written(v.z)};
+    const auto [it, added] = index_of.emplace(p, static_cast<std::uint32_t>(m.vertices.size()));
+    if (added) m.vertices.push_back(p);
+    return it->second;
+  };
+  for (unsigned k = 0; k < scene->mNumMeshes; ++k) {
+    const aiMesh* mesh = scene->mMeshes[k];
+    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+      const aiFace& face = mesh->mFaces[f];
+      if (face.mNumIndices != 3)
+        throw MeshError(fmt::format("it holds a {} (a face with {} corner{}); expected triangles only",
+                                    face.mNumIndices == 2 ? "line" : "point", face.mNumIndices,
+                                    face.mNumIndices == 1 ? "" : "s"));
+      m.triangles.push_back({vertex(mesh->mVertices[face.mIndices[0]]), vertex(mesh->mVertices[face.mIndices[1]]),
+                             vertex(mesh->mVertices[face.mIndices[2]])});
+    }
+  }
+  return m;
+}
+
+}  // namespace sluice
