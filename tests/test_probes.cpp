@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "sluice/case/builtin_cases.hpp"
 #include "sluice/case/params.hpp"
 #include "sluice/io/atomic_file.hpp"
 #include "sluice/io/probes.hpp"
@@ -255,4 +256,43 @@ TEST(PressureProbe, ASensorReadsZeroWhereThereIsNoWater) {
   EXPECT_GT(wet, 0.0);
   EXPECT_LT(half, wet);
   EXPECT_EQ(dry, 0.0);
+}
+
+// A gauge over still water 1 m deep with a detached sheet of water 0.1 m thick higher up (spray): the
+// highest fluid reads the sheet's top, the column reads the still water's surface; without the sheet
+// both read the surface; in 3D too.
+TEST(Gauge, TheColumnMeasureReadsTheStandingWaterNotTheSprayAbove) {
+  Case c = still_water_with_probes();
+  c.tank_height = 2.0;
+  Region sheet;
+  sheet.min = {0.0, 1.5, 0.0};
+  sheet.max = {1.0, 1.6, 0.0};
+  c.water.push_back(sheet);
+  const Simulation sim(c, 1);
+  Probe gauge;
+  gauge.type = ProbeType::gauge;
+  gauge.point = {0.5, 0.0, 0.0};
+  EXPECT_NEAR(sample_probe(gauge, sim)[0], 1.6, 1e-9);
+  gauge.measure = GaugeMeasure::column;
+  EXPECT_NEAR(sample_probe(gauge, sim)[0], depth, 1e-9);
+  // A gauge standing on the sheet's level reads the sheet; one whose foot is in the air above the
+  // water reads nothing.
+  gauge.point = {0.5, 1.45, 0.0};
+  EXPECT_NEAR(sample_probe(gauge, sim)[0], 1.6, 1e-9);
+  gauge.point = {0.5, 1.7, 0.0};
+  EXPECT_EQ(sample_probe(gauge, sim)[0], 0.0);
+
+  Case c3 = *load_builtin_case("still_water_3d");
+  c3.hydrostatic_squeeze = false;  // the water on the lattice: its top at 0.5 m exactly
+  Region sheet3;
+  sheet3.min = {0.0, 0.0, 0.65};
+  sheet3.max = {0.6, 0.4, 0.75};
+  c3.water.push_back(sheet3);
+  const Simulation sim3(c3, 1);
+  Probe gauge3;
+  gauge3.type = ProbeType::gauge;
+  gauge3.point = {0.3, 0.2, 0.0};
+  EXPECT_NEAR(sample_probe(gauge3, sim3)[0], 0.75, 1e-9);
+  gauge3.measure = GaugeMeasure::column;
+  EXPECT_NEAR(sample_probe(gauge3, sim3)[0], 0.5, 1e-9);
 }

@@ -233,6 +233,11 @@ const std::vector<Param<Probe>>& probe_params() {
               "How a pressure probe interpolates: shepard (kernel average normalised by its weights) or linear "
               "(first-order: the value at the point of the weighted least-squares linear fit of the neighbours' "
               "pressures, which reaches a wall's surface; Shepard where the neighbours are too few or in a line)."),
+      declare_choice<&Probe::measure>(
+              "measure", GaugeMeasure::highest, gauge_measure_names,
+              "What a gauge reads: highest (the top of the highest fluid particle in its band) or column (the top "
+              "of the water standing on the line's foot, `point`: spray and drops above a gap of more than one "
+              "particle spacing are not water level, as for a wire gauge)."),
       declare("interval", &Probe::interval, "s", 0.0, 0.0, 1e300, "Sampling interval; 0 = every step."),
   };
   return params;

@@ -130,8 +130,9 @@ std::vector<double> pressure_at(const Probe& probe, const Solver<Dim>& solver) {
       solver.kernel());
 }
 
-template <int Dim>
-std::vector<double> gauge_height(const Probe& probe, const Solver<Dim>& solver) {
+// The fluid particles in a gauge's band: f(height of the particle's top) for each.
+template <int Dim, class F>
+void for_each_in_band(const Probe& probe, const Solver<Dim>& solver, F&& f) {
   constexpr int up = Dim - 1;
   const Particles<Dim>& p = solver.particles();
   const double dx = solver.config().dx;
@@ -143,17 +144,56 @@ std::vector<double> gauge_height(const Probe& probe, const Solver<Dim>& solver) 
   }
   lower[up] = -std::numeric_limits<double>::infinity();  // the whole column (clamped to the grid)
   upper[up] = std::numeric_limits<double>::infinity();
-  double top = -std::numeric_limits<double>::infinity();
   solver.for_each_range_in_box(lower, upper, [&](std::uint32_t begin, std::uint32_t end) {
     for (std::uint32_t i = begin; i < end; ++i) {
       if (!p.is_fluid(i)) continue;
       bool inside = true;
       for (int d = 0; d < up; ++d) inside = inside && std::abs(p.position[d][i] - probe.point[d]) <= band;
-      if (!inside) continue;
-      const double y = p.position[up][i] + 0.5 * dx;
-      top = std::max(top, y);
+      if (inside) f(p.position[up][i] + 0.5 * dx);
     }
   });
+}
+
+// The top of the water standing on the gauge's foot (point[up]): the band is cut into slices one
+// particle spacing high, a particle in the slice of its centre, and the water is the run of occupied
+// slices from the foot (its first within two slices of it) up to the first two empty slices in a
+// row; its level is the top of the highest particle in the run. Each slice's highest top is reduced
+// over processes, so that the run is found on the whole column. 0 when no water stands there.
+template <int Dim>
+double column_top(const Probe& probe, const Solver<Dim>& solver) {
+  constexpr int up = Dim - 1;
+  const double dx = solver.config().dx, foot = probe.point[up];
+  double highest = -std::numeric_limits<double>::infinity();
+  for_each_in_band(probe, solver, [&](double top) { highest = std::max(highest, top); });
+  highest = solver.reducer().max(highest);
+  if (!(highest - 0.5 * dx >= foot)) return 0.0;
+  const auto slices = static_cast<std::size_t>((highest - 0.5 * dx - foot) / dx) + 1;
+  std::vector<double> slice_top(slices, -std::numeric_limits<double>::infinity());
+  for_each_in_band(probe, solver, [&](double top) {
+    const double above = top - 0.5 * dx - foot;
+    if (above < 0.0) return;
+    const auto k = std::min(slices - 1, static_cast<std::size_t>(above / dx));
+    slice_top[k] = std::max(slice_top[k], top);
+  });
+  slice_top = solver.reducer().max(std::move(slice_top));
+  double level = 0.0;
+  std::size_t empty = 0;
+  for (std::size_t k = 0; k < slices; ++k) {
+    if (std::isinf(slice_top[k])) {
+      if (++empty >= 2) break;
+      continue;
+    }
+    empty = 0;
+    level = slice_top[k];
+  }
+  return level;
+}
+
+template <int Dim>
+std::vector<double> gauge_height(const Probe& probe, const Solver<Dim>& solver) {
+  if (probe.measure == GaugeMeasure::column) return {column_top(probe, solver)};
+  double top = -std::numeric_limits<double>::infinity();
+  for_each_in_band(probe, solver, [&](double t) { top = std::max(top, t); });
   top = solver.reducer().max(top);
   return {std::isinf(top) ? 0.0 : top};
 }
