@@ -58,6 +58,13 @@ struct Signal {
   double scale = 1.0;  // simulation and data to the shown unit
 };
 
+// The smallest and largest values with t <= t_max.
+std::pair<double, double> extent_until(const Series& s, double t_max) {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (std::size_t i = 0; i < s.size() && s.t[i] <= t_max; ++i) lo = std::min(lo, s.y[i]), hi = std::max(hi, s.y[i]);
+  return {lo, hi};
+}
+
 Figure signal_figure(const Signal& s, const Case& c, const Series& sim, const Series& data, const Table& table) {
   Plot plot;
   plot.title = fmt::format("SPHERIC test 2: {}", s.quantity);
@@ -70,12 +77,17 @@ Figure signal_figure(const Signal& s, const Case& c, const Series& sim, const Se
   plot.series = {experiment, simulated};
   plot.legend = Plot::LegendAt::top_right;
   plot.x_range = {{0.0, spheric2_window}};
-  double lo = 0.0, hi = 0.0;
-  for (const Series* series : {&sim, &data})
-    for (std::size_t i = 0; i < series->size(); ++i)
-      if (series->t[i] <= spheric2_window) lo = std::min(lo, series->y[i]), hi = std::max(hi, series->y[i]);
-  plot.y_range = {{lo, hi > lo ? hi * 1.05 : lo + 1.0}};
-  return {svg_plot(plot), fmt::format("{} against the experiment (grey, the raw 1 ms record). Data: {}", s.quantity,
+  // The axis spans the experiment's values (and 0) with a margin: the simulation's first-contact
+  // spike, many times the measured peak, would otherwise flatten every other detail of the curves.
+  const auto [data_lo, data_hi] = extent_until(data, spheric2_window);
+  const auto [sim_lo, sim_hi] = extent_until(sim, spheric2_window);
+  const double margin = 0.3 * (data_hi - data_lo);
+  plot.y_range = {{std::min(0.0, data_lo) - margin, data_hi + margin}};
+  std::string cut;
+  if (sim_hi > plot.y_range->second || sim_lo < plot.y_range->first)
+    cut = fmt::format(" The simulation's values run from {:.3g} to {:.3g} {}; those beyond the axis are cut at its edge.",
+                      sim_lo, sim_hi, s.unit);
+  return {svg_plot(plot), fmt::format("{} against the experiment (grey, the raw 1 ms record).{} Data: {}", s.quantity, cut,
                                       table.comments.empty() ? std::string() : table.comments.front())};
 }
 

@@ -429,8 +429,8 @@ std::string validation_html(const ValidationReport& report, const std::string& c
   html.paragraph(fmt::format("sluice {}. Produced by: {}", SLUICE_VERSION, command_line));
   html.paragraph(
       "Each case runs a built-in case file (sluice run <case> reproduces it) and compares the simulated curve with "
-      "the experimental data in the data's non-dimensional units. The simulation is interpolated linearly at the "
-      "data's times; RMS and max are over the data points in the window.");
+      "the experimental data in the data's units (non-dimensional for the 2D cases, SI for SPHERIC test 2). The "
+      "simulation is interpolated linearly at the data's times; RMS and max are over the data points in the window.");
   html.heading("Summary");
   std::vector<std::vector<std::string>> rows;
   for (const auto& r : report.results)
