@@ -23,12 +23,7 @@ constexpr double spheric2_window = 6.0;   // s: the comparisons' window, 0 <= t 
 
 // The simulated series of a probe: time and the named column, scaled.
 Series probe_column(const fs::path& run_dir, const std::string& probe, const std::string& column, double scale) {
-  const fs::path path = run_dir / "probes" / (probe + ".csv");
-  std::error_code ec;
-  if (!fs::exists(path, ec))
-    throw AnalysisError(fmt::format("{}: missing; the case must declare a [[probe]] named '{}'", path.string(), probe));
-  Series s = read_csv_table(path).series("time", column);
-  if (s.size() < 2) throw AnalysisError(fmt::format("{}: fewer than two samples", path.string()));
+  Series s = probe_series(run_dir, probe, column);
   for (double& y : s.y) y *= scale;
   return s;
 }

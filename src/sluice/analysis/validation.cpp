@@ -95,15 +95,6 @@ double unit_length(const std::string& case_name, const Case& c) {
   return case_name == "buchner" ? r.max[1] : r.max[0];
 }
 
-Series probe_series(const fs::path& run_dir, const std::string& probe, const std::string& column) {
-  const fs::path path = run_dir / "probes" / (probe + ".csv");
-  std::error_code ec;
-  if (!fs::exists(path, ec))
-    throw AnalysisError(fmt::format("{}: missing; the case must declare a [[probe]] named '{}'", path.string(), probe));
-  Series s = read_csv_table(path).series("time", column);
-  if (s.size() < 2) throw AnalysisError(fmt::format("{}: fewer than two samples", path.string()));
-  return s;
-}
 
 Series scaled(const Series& s, double t_scale, double y_scale, double y_offset = 0.0) {
   Series out;
@@ -115,6 +106,16 @@ Series scaled(const Series& s, double t_scale, double y_scale, double y_offset =
 }
 
 }  // namespace
+
+Series probe_series(const fs::path& run_dir, const std::string& probe, const std::string& column) {
+  const fs::path path = run_dir / "probes" / (probe + ".csv");
+  std::error_code ec;
+  if (!fs::exists(path, ec))
+    throw AnalysisError(fmt::format("{}: missing; the case must declare a [[probe]] named '{}'", path.string(), probe));
+  Series s = read_csv_table(path).series("time", column);
+  if (s.size() < 2) throw AnalysisError(fmt::format("{}: fewer than two samples", path.string()));
+  return s;
+}
 
 std::string settings_of(const Case& c) {
   return fmt::format(

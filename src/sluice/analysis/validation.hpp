@@ -83,6 +83,9 @@ ValidationResult evaluate_koshizuka_oka(const Case& c, const std::filesystem::pa
 ValidationResult evaluate_buchner(const Case& c, const std::filesystem::path& run_dir, const ValidationBounds& b);
 ValidationResult evaluate_spheric2(const Case& c, const std::filesystem::path& run_dir, const ValidationBounds& b);
 
+// A probe's series from a finished run (run_dir/probes/<probe>.csv): time and the named column.
+Series probe_series(const std::filesystem::path& run_dir, const std::string& probe, const std::string& column);
+
 // The physics options of a case in one line, for the report.
 std::string settings_of(const Case& c);
 

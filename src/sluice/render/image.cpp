@@ -53,14 +53,18 @@ void fill_rect(IndexedImage& image, Rect r, std::uint8_t index) {
               image.pixels.begin() + static_cast<std::ptrdiff_t>(y) * image.width + x1, index);
 }
 
-void fill_disc(IndexedImage& image, double cx, double cy, double radius, std::uint8_t index, Rect clip) {
-  if (!std::isfinite(cx) || !std::isfinite(cy)) return;
+namespace {
+
+// The pixel rows of a disc of `radius` centred at (cx, cy) inside `clip` (clamped to the image):
+// span(y, xlo, xhi) for each row whose centre y + 0.5 is within the radius, with the pixels whose
+// centres are inside the disc. Returns the clamped clip.
+template <class Span>
+Rect for_each_disc_row(const IndexedImage& image, double cx, double cy, double radius, Rect clip, Span&& span) {
   clip.x0 = std::max(clip.x0, 0);
   clip.y0 = std::max(clip.y0, 0);
   clip.x1 = std::min(clip.x1, image.width);
   clip.y1 = std::min(clip.y1, image.height);
   const double r2 = radius * radius;
-  // Rows whose centre y + 0.5 is within radius of cy.
   const int ylo = std::max(clip.y0, static_cast<int>(std::ceil(cy - radius - 0.5)));
   const int yhi = std::min(clip.y1 - 1, static_cast<int>(std::floor(cy + radius - 0.5)));
   for (int y = ylo; y <= yhi; ++y) {
@@ -68,10 +72,19 @@ void fill_disc(IndexedImage& image, double cx, double cy, double radius, std::ui
     const double half = std::sqrt(std::max(0.0, r2 - dy * dy));
     const int xlo = std::max(clip.x0, static_cast<int>(std::ceil(cx - half - 0.5)));
     const int xhi = std::min(clip.x1 - 1, static_cast<int>(std::floor(cx + half - 0.5)));
-    if (xlo <= xhi)
-      std::fill(image.pixels.begin() + static_cast<std::ptrdiff_t>(y) * image.width + xlo,
-                image.pixels.begin() + static_cast<std::ptrdiff_t>(y) * image.width + xhi + 1, index);
+    if (xlo <= xhi) span(y, xlo, xhi);
   }
+  return clip;
+}
+
+}  // namespace
+
+void fill_disc(IndexedImage& image, double cx, double cy, double radius, std::uint8_t index, Rect clip) {
+  if (!std::isfinite(cx) || !std::isfinite(cy)) return;
+  clip = for_each_disc_row(image, cx, cy, radius, clip, [&](int y, int xlo, int xhi) {
+    std::fill(image.pixels.begin() + static_cast<std::ptrdiff_t>(y) * image.width + xlo,
+              image.pixels.begin() + static_cast<std::ptrdiff_t>(y) * image.width + xhi + 1, index);
+  });
   const double fx = std::floor(cx), fy = std::floor(cy);
   if (fx >= clip.x0 && fx < clip.x1 && fy >= clip.y0 && fy < clip.y1)
     image.at(static_cast<int>(fx), static_cast<int>(fy)) = index;
@@ -92,25 +105,15 @@ double sphere_brightness(double nx, double ny) {
 void fill_sphere(IndexedImage& image, double cx, double cy, double radius, double dim,
                  std::span<const std::uint8_t> ramp, Rect clip) {
   if (!std::isfinite(cx) || !std::isfinite(cy) || ramp.empty()) return;
-  clip.x0 = std::max(clip.x0, 0);
-  clip.y0 = std::max(clip.y0, 0);
-  clip.x1 = std::min(clip.x1, image.width);
-  clip.y1 = std::min(clip.y1, image.height);
-  const double r = std::max(radius, 0.5), r2 = radius * radius;
+  const double r = std::max(radius, 0.5);
   const int top = static_cast<int>(ramp.size()) - 1;
   auto index_at = [&](double dx, double dy) {
     const double b = dim * sphere_brightness(dx / r, -dy / r);
     return ramp[static_cast<std::size_t>(std::clamp(static_cast<int>(std::lround(b * top)), 0, top))];
   };
-  const int ylo = std::max(clip.y0, static_cast<int>(std::ceil(cy - radius - 0.5)));
-  const int yhi = std::min(clip.y1 - 1, static_cast<int>(std::floor(cy + radius - 0.5)));
-  for (int y = ylo; y <= yhi; ++y) {
-    const double dy = y + 0.5 - cy;
-    const double half = std::sqrt(std::max(0.0, r2 - dy * dy));
-    const int xlo = std::max(clip.x0, static_cast<int>(std::ceil(cx - half - 0.5)));
-    const int xhi = std::min(clip.x1 - 1, static_cast<int>(std::floor(cx + half - 0.5)));
-    for (int x = xlo; x <= xhi; ++x) image.at(x, y) = index_at(x + 0.5 - cx, dy);
-  }
+  clip = for_each_disc_row(image, cx, cy, radius, clip, [&](int y, int xlo, int xhi) {
+    for (int x = xlo; x <= xhi; ++x) image.at(x, y) = index_at(x + 0.5 - cx, y + 0.5 - cy);
+  });
   const double fx = std::floor(cx), fy = std::floor(cy);
   if (fx >= clip.x0 && fx < clip.x1 && fy >= clip.y0 && fy < clip.y1)
     image.at(static_cast<int>(fx), static_cast<int>(fy)) = index_at(fx + 0.5 - cx, fy + 0.5 - cy);
