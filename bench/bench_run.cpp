@@ -2,7 +2,12 @@
 // process (so that its peak memory is its own), reporting particle-steps and force evaluations per
 // second, wall time, threads and peak memory per particle. Writes a CSV.
 //
-//   sluice-bench-run [--dx 0.07,0.022,0.01,0.007] [--threads 1,2] [--steps N] [--csv FILE]
+//   sluice-bench-run [--case dam_break] [--dx 0.07,0.022,0.01,0.007] [--threads 1,2]
+//                    [--precision double,single] [--simd TARGET] [--steps N] [--csv FILE]
+//
+// --precision measures each resolution and thread count in each pair precision
+// (domain.pair_precision), one after the other: a side-by-side ratio. --simd runs the pair loop
+// compiled for another instruction set the CPU has (AVX2 on an AVX-512 machine, say).
 #include <fmt/format.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -17,6 +22,7 @@
 #include <vector>
 
 #include "sluice/case/params.hpp"
+#include "sluice/physics/simd_target.hpp"
 #include "sluice/simulation.hpp"
 
 using namespace sluice;
@@ -26,6 +32,7 @@ namespace {
 struct Result {
   double dx = 0;
   int threads = 0;
+  bool single = false;
   long particles = 0;
   long steps = 0;
   int evaluations_per_step = 0;
@@ -51,15 +58,17 @@ std::vector<double> parse_list(const std::string& s) {
 
 // Runs in the child: set-up, a few warm-up steps, then timed steps (at least `steps`, and at
 // least one second of wall time).
-Result measure(double dx, int threads, long steps) {
-  Case c = *load_builtin_case("dam_break");
+Result measure(const std::string& name, double dx, int threads, bool single, long steps) {
+  Case c = *load_builtin_case(name);
   apply_override(c, fmt::format("domain.dx={}", dx));
+  apply_override(c, single ? "domain.pair_precision=single" : "domain.pair_precision=double");
   Simulation sim(c, threads);
   for (int i = 0; i < 3; ++i) sim.step();
   Result r;
   r.dx = dx;
   r.threads = threads;
-  r.particles = static_cast<long>(sim.particles<2>().size());
+  r.single = single;
+  r.particles = static_cast<long>(c.dimension == 3 ? sim.particles<3>().size() : sim.particles<2>().size());
   r.evaluations_per_step = sim.force_evaluations_per_step();
   const auto start = std::chrono::steady_clock::now();
   do {
@@ -71,13 +80,13 @@ Result measure(double dx, int threads, long steps) {
   return r;
 }
 
-bool measure_in_child(double dx, int threads, long steps, Result& out) {
+bool measure_in_child(const std::string& name, double dx, int threads, bool single, long steps, Result& out) {
   int fd[2];
   if (pipe(fd) != 0) return false;
   const pid_t pid = fork();
   if (pid == 0) {
     close(fd[0]);
-    const Result r = measure(dx, threads, steps);
+    const Result r = measure(name, dx, threads, single, steps);
     const bool ok = write(fd[1], &r, sizeof r) == static_cast<ssize_t>(sizeof r);
     _exit(ok ? 0 : 1);
   }
@@ -95,7 +104,7 @@ int main(int argc, char** argv) {
   std::vector<double> dxs = {0.07, 0.022, 0.01, 0.007};
   std::vector<double> thread_counts = {1, 2};
   long steps = 20;
-  std::string csv = "bench/results.csv";
+  std::string csv = "bench/results.csv", name = "dam_break", precisions = "double";
   for (int a = 1; a < argc; ++a) {
     const std::string arg = argv[a];
     auto value = [&]() -> std::string {
@@ -109,30 +118,57 @@ int main(int argc, char** argv) {
     else if (arg == "--threads") thread_counts = parse_list(value());
     else if (arg == "--steps") steps = std::stol(value());
     else if (arg == "--csv") csv = value();
+    else if (arg == "--case") name = value();
+    else if (arg == "--precision") precisions = value();
+    else if (arg == "--simd") {
+      try {
+        use_simd_target(value());
+      } catch (const std::exception& e) {
+        std::cerr << "sluice-bench-run: " << e.what() << "\n";
+        return 2;
+      }
+    }
     else {
-      std::cerr << "usage: sluice-bench-run [--dx a,b,...] [--threads 1,2] [--steps N] [--csv FILE]\n";
+      std::cerr << "usage: sluice-bench-run [--case NAME] [--dx a,b,...] [--threads 1,2] [--precision double,single]"
+                   " [--simd TARGET] [--steps N] [--csv FILE]\n";
       return 2;
     }
   }
-  std::string table = "dx_m,threads,particles,steps,evaluations_per_step,wall_s,particle_steps_per_s,"
-                      "evaluations_per_s,peak_bytes_per_particle\n";
-  fmt::print("{:>8} {:>7} {:>10} {:>6} {:>9} {:>14} {:>14} {:>10}\n", "dx [m]", "threads", "particles", "steps",
-             "wall [s]", "M p-steps/s", "M p-evals/s", "B/particle");
+  std::vector<bool> singles;
+  {
+    std::stringstream in(precisions);
+    std::string item;
+    while (std::getline(in, item, ',')) {
+      if (item != "double" && item != "single") {
+        std::cerr << "sluice-bench-run: --precision takes double, single or both (double,single), not '" << item
+                  << "'\n";
+        return 2;
+      }
+      singles.push_back(item == "single");
+    }
+  }
+  std::string table = "case,dx_m,threads,precision,particles,steps,evaluations_per_step,wall_s,"
+                      "particle_steps_per_s,evaluations_per_s,peak_bytes_per_particle\n";
+  fmt::print("{}: {}\n", name, simd_target());
+  fmt::print("{:>8} {:>7} {:>9} {:>10} {:>6} {:>9} {:>14} {:>14} {:>10}\n", "dx [m]", "threads", "precision",
+             "particles", "steps", "wall [s]", "M p-steps/s", "M p-evals/s", "B/particle");
   for (double dx : dxs)
-    for (double t : thread_counts) {
+    for (double t : thread_counts)
+      for (const bool single : singles) {
       Result r;
-      if (!measure_in_child(dx, static_cast<int>(t), steps, r)) {
-        std::cerr << fmt::format("sluice-bench-run: the run at dx = {} with {} threads failed\n", dx, t);
+      if (!measure_in_child(name, dx, static_cast<int>(t), single, steps, r)) {
+        std::cerr << fmt::format("sluice-bench-run: the run of {} at dx = {} with {} threads failed\n", name, dx, t);
         return 1;
       }
       const double psteps = static_cast<double>(r.particles) * static_cast<double>(r.steps) / r.wall;
       const double evals = psteps * r.evaluations_per_step;
       const double bytes = r.peak_bytes / static_cast<double>(r.particles);
-      fmt::print("{:>8} {:>7} {:>10} {:>6} {:>9.2f} {:>14.2f} {:>14.2f} {:>10.0f}\n", dx, r.threads, r.particles,
-                 r.steps, r.wall, psteps * 1e-6, evals * 1e-6, bytes);
+      const char* precision = r.single ? "single" : "double";
+      fmt::print("{:>8} {:>7} {:>9} {:>10} {:>6} {:>9.2f} {:>14.2f} {:>14.2f} {:>10.0f}\n", dx, r.threads, precision,
+                 r.particles, r.steps, r.wall, psteps * 1e-6, evals * 1e-6, bytes);
       std::fflush(stdout);
-      table += fmt::format("{},{},{},{},{},{:.4f},{:.0f},{:.0f},{:.1f}\n", dx, r.threads, r.particles, r.steps,
-                           r.evaluations_per_step, r.wall, psteps, evals, bytes);
+      table += fmt::format("{},{},{},{},{},{},{},{:.4f},{:.0f},{:.0f},{:.1f}\n", name, dx, r.threads, precision,
+                           r.particles, r.steps, r.evaluations_per_step, r.wall, psteps, evals, bytes);
     }
   std::ofstream out(csv);
   out << table;

@@ -392,6 +392,18 @@ TEST_F(Cli, SetOverridesReachTheRun) {
   EXPECT_FALSE(fs::exists(work_ / "o" / "renamed.pvd"));  // only npz frames asked for
 }
 
+TEST_F(Cli, SinglePrecisionPairsRunAndTheSummarySaysSo) {
+  const Result r = sluice(with_tiny({"run", "-o", "o", "--set", "domain.pair_precision=single"}));
+  ASSERT_EQ(r.status, 0) << r.err;
+  expect_contains(r.out, {"single precision"});
+  const Result d = sluice(with_tiny({"run", "-o", "d"}));
+  ASSERT_EQ(d.status, 0) << d.err;
+  expect_contains(d.out, {"double precision"});
+  const Result bad = sluice(with_tiny({"run", "-o", "b", "--set", "domain.pair_precision=half"}));
+  EXPECT_EQ(bad.status, 2);
+  expect_contains(bad.err, {"domain.pair_precision", "\"half\"", "\"double\", \"single\""});
+}
+
 TEST_F(Cli, InitThenRunUnchanged) {
   const Result init = sluice({"init", "x.toml"});
   ASSERT_EQ(init.status, 0) << init.err;

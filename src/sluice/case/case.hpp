@@ -27,6 +27,8 @@ inline constexpr std::array<std::string_view, 3> wall_boundary_names = {"dynamic
 enum class WallSlip { no_slip, free_slip };
 inline constexpr std::array<std::string_view, 2> wall_slip_names = {"no_slip", "free_slip"};
 
+enum class Precision { double_, single };
+inline constexpr std::array<std::string_view, 2> precision_names = {"double", "single"};
 enum class Integrator { predictor_corrector, euler };
 inline constexpr std::array<std::string_view, 2> integrator_names = {"predictor_corrector", "euler"};
 
@@ -81,6 +83,7 @@ struct Case {
   double dx = 0.0;          // particle spacing
   double h_over_dx = 0.0;   // smoothing length h = h_over_dx * dx
   KernelType kernel = KernelType::cubic_spline;
+  Precision pair_precision = Precision::double_;  // of the pair arithmetic; the state is always double
 
   // [tank]: the inner walls are x = 0, x = width, the floor at up = 0 and (with a lid) up = height;
   // in 3D also y = 0 and y = depth.

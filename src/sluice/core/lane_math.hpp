@@ -14,5 +14,7 @@ inline double max(double a, double b) { return std::max(a, b); }
 inline double select(bool c, double a, double b) { return c ? a : b; }
 inline double quotient(double a, double b) { return a / b; }
 inline double sqrt(double x) { return std::sqrt(x); }
+// 1/r for r = sqrt(r2), given both (the vectors of floats compute it from r2 alone).
+inline double inverse_root(double /*r2*/, double r) { return 1.0 / r; }
 
 }  // namespace sluice::simd

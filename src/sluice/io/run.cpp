@@ -399,6 +399,7 @@ class Run {
     r.interrupted = interrupted_;
     r.rest_density = c.rest_density;
     r.sound_speed = c.sound_speed;
+    r.single_precision_pairs = c.pair_precision == Precision::single;
     r.output_dir = options_.output_dir;
     r.case_name = c.name;
     return r;
@@ -442,7 +443,8 @@ std::string format_summary(const RunResult& r) {
   s += fmt::format("  speed       {:.2f} M particle-steps/s, {:.2f} M particle-evaluations/s\n",
                    r.particle_steps_per_second * 1e-6,
                    r.particle_steps_per_second * r.force_evaluations_per_step * 1e-6);
-  s += fmt::format("  pair loop   {} (the instruction set it ran on)\n", simd_target());
+  s += fmt::format("  pair loop   {} (the instruction set it ran on), {} precision\n", simd_target(),
+                   r.single_precision_pairs ? "single" : "double");
   s += fmt::format("  leaks       {} (fluid particles put back from inside a wall)\n", d.leaks);
   s += fmt::format("  density     min {:.2f}, max {:.2f} kg/m^3 (rho0 = {})\n", d.min_density, d.max_density,
                    r.rest_density);

@@ -47,6 +47,7 @@ struct RunResult {
   bool interrupted = false;
   double rest_density = 0.0;
   double sound_speed = 0.0;
+  bool single_precision_pairs = false;  // domain.pair_precision = "single"
   std::filesystem::path output_dir;
   std::string case_name;
 };

@@ -11,13 +11,20 @@
 namespace sluice {
 
 // Cubic spline (Monaghan & Lattanzio 1985), normalised in 1, 2 or 3 dimensions.
-template <int Dim>
+// Num is double, or in the pair loop a vector of constants (as<T>(): made once, outside the loop).
+template <int Dim, class Num = double>
 struct CubicSpline {
   static constexpr double support = 2.0;  // in units of h
 
-  double h;
-  double inv_h;
-  double norm;  // sigma / h^Dim
+  Num h;
+  Num inv_h;
+  Num norm;  // sigma / h^Dim
+
+  CubicSpline(Num h_, Num inv_h_, Num norm_) : h(h_), inv_h(inv_h_), norm(norm_) {}
+  template <class T>
+  [[nodiscard]] CubicSpline<Dim, T> as() const {
+    return {T(h), T(inv_h), T(norm)};
+  }
 
   explicit CubicSpline(double smoothing_length) : h(smoothing_length), inv_h(1.0 / smoothing_length) {
     static_assert(Dim >= 1 && Dim <= 3);
@@ -37,13 +44,20 @@ struct CubicSpline {
 };
 
 // Wendland C2 (Wendland 1995), in the q in [0, 2] form used by DualSPHysics; 2D and 3D only.
-template <int Dim>
+// Num is double, or in the pair loop a vector of constants (as<T>(): made once, outside the loop).
+template <int Dim, class Num = double>
 struct WendlandC2 {
   static constexpr double support = 2.0;
 
-  double h;
-  double inv_h;
-  double norm;
+  Num h;
+  Num inv_h;
+  Num norm;
+
+  WendlandC2(Num h_, Num inv_h_, Num norm_) : h(h_), inv_h(inv_h_), norm(norm_) {}
+  template <class T>
+  [[nodiscard]] WendlandC2<Dim, T> as() const {
+    return {T(h), T(inv_h), T(norm)};
+  }
 
   explicit WendlandC2(double smoothing_length) : h(smoothing_length), inv_h(1.0 / smoothing_length) {
     static_assert(Dim == 2 || Dim == 3);
@@ -60,18 +74,18 @@ struct WendlandC2 {
 
 #include "sluice/physics/kernel_shapes-inl.hpp"
 
-template <int Dim>
-double CubicSpline<Dim>::value_inside(double r) const { return shape::value_inside(*this, r); }
-template <int Dim>
-double CubicSpline<Dim>::derivative_inside(double r) const { return shape::derivative_inside(*this, r); }
-template <int Dim>
-double CubicSpline<Dim>::gradient_factor(double r, double inv_r) const { return shape::gradient_factor(*this, r, inv_r); }
-template <int Dim>
-double WendlandC2<Dim>::value_inside(double r) const { return shape::value_inside(*this, r); }
-template <int Dim>
-double WendlandC2<Dim>::derivative_inside(double r) const { return shape::derivative_inside(*this, r); }
-template <int Dim>
-double WendlandC2<Dim>::gradient_factor(double r, double inv_r) const { return shape::gradient_factor(*this, r, inv_r); }
+template <int Dim, class Num>
+double CubicSpline<Dim, Num>::value_inside(double r) const { return shape::value_inside(*this, r); }
+template <int Dim, class Num>
+double CubicSpline<Dim, Num>::derivative_inside(double r) const { return shape::derivative_inside(*this, r); }
+template <int Dim, class Num>
+double CubicSpline<Dim, Num>::gradient_factor(double r, double inv_r) const { return shape::gradient_factor(*this, r, inv_r); }
+template <int Dim, class Num>
+double WendlandC2<Dim, Num>::value_inside(double r) const { return shape::value_inside(*this, r); }
+template <int Dim, class Num>
+double WendlandC2<Dim, Num>::derivative_inside(double r) const { return shape::derivative_inside(*this, r); }
+template <int Dim, class Num>
+double WendlandC2<Dim, Num>::gradient_factor(double r, double inv_r) const { return shape::gradient_factor(*this, r, inv_r); }
 
 // The kernels a run can use; the index of the alternative selects the compiled pair loop.
 template <int Dim>

@@ -28,6 +28,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 #include <utility>
 #include <variant>
 #include <vector>
@@ -63,17 +64,17 @@ HWY_INLINE void for_each_range(const Ranges& ranges, F&& f) {
 // first-level cache, no two threads ever write the same place (the block is the thread's own), and
 // consecutive particles of the cell write the same vectors at the same addresses (each range starts a
 // whole vector).
-template <int Dim, std::size_t Outputs>
+template <int Dim, std::size_t Outputs, class R>
 struct CellBlock {
   static constexpr int kMaxRanges = (Dim == 3 ? 4 : Dim - 1) + 1;
   std::array<std::uint32_t, kMaxRanges> begin{}, end{}, offset{};
   int ranges = 0;
-  std::array<std::vector<double>, Outputs> to_j;
+  std::array<std::vector<R>, Outputs> to_j;  // in the precision of the pair arithmetic
 
   // Sets the block to the cell's candidates, with nothing given to them yet.
   template <class Forward>
   void start(std::uint32_t cell_begin, const Forward& forward) {
-    const std::size_t N = simd::lanes();
+    const std::size_t N = simd::lanes<R>();
     ranges = 0;
     std::size_t size = 0;
     const auto add = [&](std::uint32_t b, std::uint32_t e) {
@@ -87,7 +88,7 @@ struct CellBlock {
     for (int k = 0; k < forward.others; ++k) add(forward.other[k].first, forward.other[k].second);
     if (to_j[0].size() < size)
       for (auto& b : to_j) b.resize(2 * size);
-    for (auto& b : to_j) std::fill_n(b.begin(), size, 0.0);
+    for (auto& b : to_j) std::fill_n(b.begin(), size, R(0));
   }
 
   // Adds what the cell's particles gave its candidates to the output arrays.
@@ -96,7 +97,7 @@ struct CellBlock {
       const std::uint32_t b = begin[k], n = end[k] - b, o = offset[k];
       for (std::size_t c = 0; c < Outputs; ++c) {
         double* __restrict a = out[c] + b;
-        const double* __restrict t = to_j[c].data() + o;
+        const R* __restrict t = to_j[c].data() + o;
         for (std::uint32_t q = 0; q < n; ++q) a[q] += t[q];
       }
     }
@@ -117,22 +118,28 @@ struct CellBlock {
 // For a wall particle i (`WallI`), only the lanes of fluid candidates count: a wall-wall pair gives
 // nothing that is used (the walls do not move, the continuity equation sees them at rest, and
 // density diffusion acts between fluid particles only), so vectors of wall candidates are skipped.
-template <int Dim, bool WallI, class Pair>
-HWY_INLINE void evaluate_pairs(const Pair& shared_pair, std::uint32_t i, const std::array<double, Dim>& xi,
-                               const std::array<const double*, Dim>& x, const double* fluid, std::size_t size,
-                               double support2, double min_r2, CellBlock<Dim, Pair::kOutputs>& block,
+template <int Dim, bool WallI, class Pair, class R = typename Pair::Real>
+HWY_INLINE void evaluate_pairs(const Pair& shared_pair, std::uint32_t i, const std::array<R, Dim>& xi,
+                               const std::array<const R*, Dim>& x, const R* fluid, std::size_t size, double support2,
+                               double min_r2, CellBlock<Dim, Pair::kOutputs, R>& block,
                                const std::array<double*, Pair::kOutputs>& out, double& speed2_max, double& r2_min) {
+  using V = simd::Lanes<R>;
   constexpr std::size_t A = Pair::kOpposite, S = Pair::kOwn;
   // A copy of its own: the compiler then knows that the stores below do not change the constants of
-  // the pair, and keeps them and their products out of the loop.
-  const Pair pair = shared_pair;
-  const simd::D d;
+  // the pair, and keeps them and their products out of the loop. In single precision, with the
+  // constants as vectors of floats: out of registers, a constant is then reloaded by a load, not
+  // converted from its double again.
+  const auto pair = [&] {
+    if constexpr (std::is_same_v<R, float>) return shared_pair.template with<V>();
+    else return shared_pair;
+  }();
+  const simd::Tag<R> d;
   const std::size_t N = hn::Lanes(d);
-  const auto upper = hn::Set(d, support2), lower = hn::Set(d, min_r2);
-  const auto si = pair.template side<Pack>([&](const double* a) { return Pack(a[i]); });
-  std::array<Pack, A + S> sum;
+  const auto upper = hn::Set(d, static_cast<R>(support2)), lower = hn::Set(d, static_cast<R>(min_r2));
+  const auto si = pair.template side<V>([&](const R* a) { return V(a[i]); });
+  std::array<V, A + S> sum;
   sum.fill(0.0);
-  Pack vmax = 0.0, rmin = pair.far_r2;
+  V vmax = 0.0, rmin = pair.far_r2;
   for (int k = 0; k < block.ranges; ++k) {
     const std::uint32_t b = block.begin[k], e = block.end[k];
     // In i's own cell (the first range), from the whole vector that holds i + 1.
@@ -144,28 +151,28 @@ HWY_INLINE void evaluate_pairs(const Pair& shared_pair, std::uint32_t i, const s
     for (; j < e; j += static_cast<std::uint32_t>(N)) {
       const std::size_t skip = (k == 0 && j <= i) ? i + 1 - j : 0;
       const auto valid = hn::AndNot(hn::FirstN(d, skip), hn::FirstN(d, std::min<std::size_t>(N, e - j)));
-      std::array<Pack, Dim> r_ij;
+      std::array<V, Dim> r_ij;
       auto r2 = hn::Zero(d);
       for (int c = 0; c < Dim; ++c) {
-        r_ij[c] = Pack(xi[c]) - simd::load_at(x[c], j, size);
+        r_ij[c] = V(hn::Set(d, xi[c])) - simd::load_at(x[c], j, size);
         r2 = hn::MulAdd(r_ij[c].v, r_ij[c].v, r2);
       }
       auto near = hn::And(valid, hn::And(hn::Lt(r2, upper), hn::Gt(r2, lower)));
       if constexpr (WallI) near = hn::And(near, hn::Ne(simd::load_at(fluid, j, size).v, hn::Zero(d)));
-      const simd::Mask hit{near};
+      const simd::MaskOf<R> hit{near};
       if (hn::AllFalse(d, hit.m)) continue;
-      const auto sj = pair.template side<Pack>([&](const double* a) { return simd::load_at(a, j, size); });
+      const auto sj = pair.template side<V>([&](const R* a) { return simd::load_at(a, j, size); });
       const auto rates = pair(si, sj, r_ij);
       const std::size_t at = block.offset[k] + (j - b);
       for (std::size_t c = 0; c < A; ++c) {
-        const Pack f = simd::select(hit, rates.opposite[c], 0.0);
+        const V f = simd::select(hit, rates.opposite[c], 0.0);
         sum[c] += f;
-        double* to = block.to_j[c].data() + at;
+        R* to = block.to_j[c].data() + at;
         simd::store(simd::load(to) - f, to);
       }
       for (std::size_t c = 0; c < S; ++c) {
         sum[A + c] += simd::select(hit, rates.to_i[c], 0.0);
-        double* to = block.to_j[A + c].data() + at;
+        R* to = block.to_j[A + c].data() + at;
         simd::store(simd::load(to) + simd::select(hit, rates.to_j[c], 0.0), to);
       }
       vmax = simd::max(vmax, simd::select(hit, rates.speed2, 0.0));
@@ -182,9 +189,9 @@ HWY_INLINE void evaluate_pairs(const Pair& shared_pair, std::uint32_t i, const s
 // particle among their forward candidates are skipped (wall-wall pairs are of no use to any pair
 // here). Returns the largest speed2 and the smallest fluid_r2 of the pairs through `speed2_max` and
 // `r2_min`. Called inside a parallel region, by every thread of it.
-template <int Dim, class Pair>
-HWY_INLINE void for_each_pair(const Pair& pair, const CellGrid<Dim>& grid, const std::array<const double*, Dim>& x,
-                              const double* fluid, const std::vector<std::uint32_t>& fluid_before, double support2,
+template <int Dim, class Pair, class R = typename Pair::Real>
+HWY_INLINE void for_each_pair(const Pair& pair, const CellGrid<Dim>& grid, const std::array<const R*, Dim>& x,
+                              const R* fluid, const std::vector<std::uint32_t>& fluid_before, double support2,
                               double min_r2, const std::array<double*, Pair::kOutputs>& out, double& speed2_max,
                               double& r2_min) {
   const long n = static_cast<long>(grid.cell_of().size());
@@ -192,7 +199,7 @@ HWY_INLINE void for_each_pair(const Pair& pair, const CellGrid<Dim>& grid, const
 #pragma omp for schedule(static)
   for (long i = 0; i < n; ++i)
     for (double* o : out) o[i] = 0.0;
-  CellBlock<Dim, Pair::kOutputs> block;
+  CellBlock<Dim, Pair::kOutputs, R> block;
   const long bands = static_cast<long>(grid.band_count());
   for (long parity = 0; parity < 2; ++parity) {
 #pragma omp for schedule(dynamic, 1) reduction(max : speed2_max) reduction(min : r2_min)
@@ -211,7 +218,7 @@ HWY_INLINE void for_each_pair(const Pair& pair, const CellGrid<Dim>& grid, const
             });
             if (!near_fluid) continue;
           }
-          std::array<double, Dim> xi{};
+          std::array<R, Dim> xi{};
           for (int d = 0; d < Dim; ++d) xi[d] = x[d][i];
           if (fluid[i] == 0.0)
             evaluate_pairs<Dim, true>(pair, i, xi, x, fluid, static_cast<std::size_t>(n), support2, min_r2, block, out,
@@ -227,7 +234,8 @@ HWY_INLINE void for_each_pair(const Pair& pair, const CellGrid<Dim>& grid, const
 }
 
 // Fluid particles before each sorted index (for_each_pair's wall-particle test).
-inline std::vector<std::uint32_t> fluid_counts(const double* fluid, long n) {
+template <class R>
+std::vector<std::uint32_t> fluid_counts(const R* fluid, long n) {
   std::vector<std::uint32_t> before(static_cast<std::size_t>(n) + 1, 0);
   for (long i = 0; i < n; ++i) before[i + 1] = before[i] + (fluid[i] != 0.0);
   return before;
@@ -251,29 +259,32 @@ HWY_INLINE void add_gravity(Particles<Dim>& p, const Vec<Dim>& g, const double* 
   }
 }
 
-template <int Dim, class Kernel, class Walls, bool WithArtificialPressure>
+template <int Dim, class Kernel, class Walls, bool WithArtificialPressure, class R>
 RateSummary rate_loop(Particles<Dim>& p, const CellGrid<Dim>& grid, const RateSettings<Dim>& s,
                       const ParticleTerms& t, int threads) {
   const double support2 = Kernel::support * Kernel::support * s.h * s.h;
-  const double min_r2 = 1e-18 * s.h * s.h;  // excludes i = j (and exactly coincident points)
-  using Pair = WcsphPair<Dim, Kernel, Walls, WithArtificialPressure>;
+  // Excludes i = j (and exactly coincident points); in single precision, pairs closer than a
+  // millionth of h (whose direction the floats no longer resolve) too.
+  const double min_r2 = (std::is_same_v<R, float> ? 1e-12 : 1e-18) * s.h * s.h;
+  using Pair = WcsphPair<Dim, Kernel, Walls, WithArtificialPressure, R>;
   const auto pair = Pair::of(p, s, t);
 
-  std::array<const double*, Dim> x{};
+  const PairFields<R> fields = t.template fields<R>(p);
+  std::array<const R*, Dim> x{};
   std::array<double*, Pair::kOutputs> out{};
   for (int d = 0; d < Dim; ++d) {
-    x[d] = p.position[d].data();
+    x[d] = fields.x[d];
     out[d] = p.acceleration[d].data();
   }
   out[Dim] = p.density_rate.data();
-  const double* const fluid = t.fluid_mask.data();
+  const R* const fluid = fields.fluid;
   const auto fluid_before = fluid_counts(fluid, static_cast<long>(p.size()));
 
   double max_accel2 = 0.0, max_speed2 = 0.0, max_rho = 0.0, closest2 = support2;
 #pragma omp parallel num_threads(threads)
   {
     for_each_pair<Dim>(pair, grid, x, fluid, fluid_before, support2, min_r2, out, max_speed2, closest2);
-    add_gravity<Dim>(p, s.gravity, fluid, max_accel2, max_rho);
+    add_gravity<Dim>(p, s.gravity, t.fluid_mask.data(), max_accel2, max_rho);
   }
   return {std::sqrt(max_accel2), std::sqrt(max_speed2), max_rho, std::sqrt(closest2)};
 }
@@ -323,7 +334,7 @@ void shepard_loop(Particles<Dim>& p, const CellGrid<Dim>& grid, double h, double
         }
         const Pack w = shape::value_inside(kernel, simd::sqrt(r2));
         mass_sum += w;
-        volume_sum += w * simd::quotient(mass, simd::load_within(p.density.data(), j, lanes, size, 1.0));
+        volume_sum += w * simd::quotient(Pack(mass), simd::load_within(p.density.data(), j, lanes, size, 1.0));
       }
     });
     out[i] = mass * simd::reduce_add(mass_sum) / simd::reduce_add(volume_sum);
@@ -336,8 +347,10 @@ template <int Dim, std::size_t K, std::size_t W>
 void add_rate_loops(DimensionLoops<Dim>& loops) {
   using Kernel = std::variant_alternative_t<K, AnyKernel<Dim>>;
   using Walls = std::variant_alternative_t<W, PairWallTraits>;
-  loops.rates[K][W][0] = &rate_loop<Dim, Kernel, Walls, false>;
-  loops.rates[K][W][1] = &rate_loop<Dim, Kernel, Walls, true>;
+  loops.rates[K][W][0][0] = &rate_loop<Dim, Kernel, Walls, false, double>;
+  loops.rates[K][W][1][0] = &rate_loop<Dim, Kernel, Walls, true, double>;
+  loops.rates[K][W][0][1] = &rate_loop<Dim, Kernel, Walls, false, float>;
+  loops.rates[K][W][1][1] = &rate_loop<Dim, Kernel, Walls, true, float>;
   if constexpr (W == 0) {
     loops.shepard[K] = &shepard_loop<Dim, Kernel>;
     loops.shifting[K] = &shifting_loop<Dim, Kernel>;

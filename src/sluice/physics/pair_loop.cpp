@@ -78,8 +78,8 @@ RateSummary compute_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const An
                           const WallTreatment& walls, const RateSettings<Dim>& settings, const ParticleTerms& terms,
                           int threads) {
   const bool with_artificial_pressure = settings.artificial_pressure > 0.0;
-  const RateLoop<Dim> loop =
-      loops().template of<Dim>().rates[kernel.index()][pair_traits_index(walls)][with_artificial_pressure ? 1 : 0];
+  const RateLoop<Dim> loop = loops().template of<Dim>().rates[kernel.index()][pair_traits_index(walls)]
+                                                              [with_artificial_pressure ? 1 : 0][terms.single_precision ? 1 : 0];
   return loop(p, grid, settings, terms, threads);
 }
 

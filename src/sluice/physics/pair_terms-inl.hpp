@@ -4,8 +4,8 @@
 // gradient_factor), which removes the 1/r of every term: the momentum terms return factors of r_ij
 // or v_ij, the density terms scalars.
 // Each is a template on the number type T: a double for one pair (physics/pair_terms.hpp), or a
-// vector of pairs (simd::Pack of core/lanes-inl.hpp, in the code compiled per instruction set);
-// constants of the run stay doubles.
+// vector of pairs (simd::Lanes of core/lanes-inl.hpp, in the code compiled per instruction set).
+// The constants of the run (C) are doubles, or vectors made once outside the pair loop.
 //
 // No include guard and no includes: this text is included inside a namespace, once for doubles and
 // once per instruction set, where `simd::` names that namespace's functions of core/lane_math.hpp or
@@ -14,23 +14,23 @@
 namespace pair {
 
 // Momentum, pressure part: a_i += -m (P_i/rho_i^2 + P_j/rho_j^2) dW e_ij.  Returns the factor of r_ij.
-template <class T>
-T pressure(double m, T p_over_rho2_i, T p_over_rho2_j, T F) {
+template <class T, class C>
+T pressure(C m, T p_over_rho2_i, T p_over_rho2_j, T F) {
   return -m * (p_over_rho2_i + p_over_rho2_j) * F;
 }
 
 // Momentum, viscous part (SPEC.md form): a_i += mu m (1/rho_i^2 + 1/rho_j^2) dW v_ij / r.
 // Returns the factor of v_ij.
-template <class T>
-T laminar_viscosity(double mu, double m, T inv_rho2_i, T inv_rho2_j, T F) {
+template <class T, class C>
+T laminar_viscosity(C mu, C m, T inv_rho2_i, T inv_rho2_j, T F) {
   return mu * m * (inv_rho2_i + inv_rho2_j) * F;
 }
 
 // Monaghan (1992) artificial viscosity: a_i += -m Pi_ij dW e_ij with
 // Pi_ij = -alpha c0 mu_ij / rho_mean, mu_ij = h (v_ij . r_ij) / (r^2 + 0.01 h^2), only for approaching pairs.
 // Returns the factor of r_ij.
-template <class T>
-T artificial_viscosity(T alpha, double c0, double h, double m, T v_dot_r, T r2, T rho_mean, T F) {
+template <class T, class C>
+T artificial_viscosity(T alpha, C c0, C h, C m, T v_dot_r, T r2, T rho_mean, T F) {
   // Pi_ij with one division (the pair loop's costliest operations are its divisions).
   const T pi_ij = simd::quotient(-alpha * c0 * h * simd::min(v_dot_r, T(0.0)), (r2 + 0.01 * h * h) * rho_mean);
   return -m * pi_ij * F;
@@ -40,14 +40,14 @@ T artificial_viscosity(T alpha, double c0, double h, double m, T v_dot_r, T r2, 
 // f = W(r)/W(dx), R_ij = R_i + R_j with R = eps |P|/rho^2 for particles under tension (P < 0) and
 // R = 0.01 P/rho^2 otherwise (Monaghan's small positive-pressure term, which stops pairing).
 // Returns the factor of r_ij; f_n = f^n.
-template <class T>
-T artificial_pressure(double m, T r_i, T r_j, T f_n, T F) {
+template <class T, class C>
+T artificial_pressure(C m, T r_i, T r_j, T f_n, T F) {
   return -m * (r_i + r_j) * f_n * F;
 }
 
 // Continuity: drho_i/dt += m dW (v_ij . e_ij) = m F (v_ij . r_ij).
-template <class T>
-T continuity(double m, T F, T v_dot_r) {
+template <class T, class C>
+T continuity(C m, T F, T v_dot_r) {
   return m * F * v_dot_r;
 }
 
@@ -57,8 +57,8 @@ T continuity(double m, T F, T v_dot_r) {
 // and r_ji . grad_i W / r^2 = -F. This returns the flux D = -2 delta h c0 m F (rho_j - rho_i -
 // drho_hydro_ij): particle i gains D / rho_j and particle j gains -D / rho_i (the same formula with
 // i and j swapped).
-template <class T>
-T density_diffusion_flux(double delta_h_c0, double m, T rho_i, T rho_j, T drho_hydro_ij, T F) {
+template <class T, class C>
+T density_diffusion_flux(C delta_h_c0, C m, T rho_i, T rho_j, T drho_hydro_ij, T F) {
   return -2.0 * delta_h_c0 * m * F * (rho_j - rho_i - drho_hydro_ij);
 }
 

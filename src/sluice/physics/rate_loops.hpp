@@ -29,7 +29,8 @@ using ShiftingLoop = void (*)(const Particles<Dim>&, const CellGrid<Dim>&, const
 
 template <int Dim>
 struct DimensionLoops {
-  RateLoop<Dim> rates[kKernels][kPairWallTraits][2];  // [kernel][wall pair traits][with artificial pressure]
+  // [kernel][wall pair traits][with artificial pressure][single-precision pairs]
+  RateLoop<Dim> rates[kKernels][kPairWallTraits][2][2];
   ShepardLoop<Dim> shepard[kKernels];
   ShiftingLoop<Dim> shifting[kKernels];
 };

@@ -13,6 +13,7 @@
 
 template <int Dim, class Kernel>
 struct ShiftingPair {
+  using Real = double;
   // The outputs, in the pair loop's order: grad C, grad C^R (opposite), div r (each side's own).
   static constexpr std::size_t kOpposite = 2 * Dim, kOwn = 1, kOutputs = kOpposite + kOwn;
   template <class T>
@@ -41,7 +42,7 @@ struct ShiftingPair {
     T r2 = r_ij[0] * r_ij[0];
     for (int d = 1; d < Dim; ++d) r2 = r2 + r_ij[d] * r_ij[d];
     const T r = simd::sqrt(r2);
-    const T vf = volume * shape::gradient_factor(kernel, r, simd::quotient(T(1.0), r));
+    const T vf = volume * shape::gradient_factor(kernel, r, simd::inverse_root(r2, r));
     const T f = shape::value_inside(kernel, r) * inv_w_dx;
     T f_n = 1.0;
     for (int e = 0; e < exponent; ++e) f_n = f_n * f;

@@ -10,8 +10,13 @@
 // No include guard and no includes: included inside a namespace that has `simd`, `shape` and `pair`
 // for T (see physics/pair_loop-inl.hpp).
 
-template <int Dim, class Kernel, class Walls, bool WithArtificialPressure>
+// R is the precision of the pair arithmetic and of the fields it reads (ParticleTerms::fields); C the
+// type of its constants: doubles, or vectors of R (with<T>(), made once outside the pair loop, so
+// that the loop does not convert them from double on every pass).
+template <int Dim, class Kernel, class Walls, bool WithArtificialPressure, class R = double, class C = double>
 struct WcsphPair {
+  using Real = R;
+
   // What the interaction reads of one particle.
   template <class T>
   struct Side {
@@ -31,16 +36,46 @@ struct WcsphPair {
     T fluid_r2;                         // r^2, or far_r2 for a wall-wall pair
   };
 
-  Kernel kernel;
-  double m = 0.0, c0 = 0.0, h = 0.0, mu = 0.0, alpha = 0.0, delta_h_c0 = 0.0;
-  std::array<double, Dim> g{};
-  double inv_w_dx = 0.0;  // 1 / W(dx), for the artificial pressure
-  int ap_n = 0;           // artificial pressure exponent
-  double far_r2 = 0.0;    // beyond the support
-  // The particle fields (physics/particle_terms.hpp for the derived ones).
-  std::array<const double*, Dim> v{};
-  const double *rho = nullptr, *inv_rho = nullptr, *p_over_rho2 = nullptr, *hydro_k = nullptr, *fluid = nullptr,
-               *tension = nullptr;
+  decltype(std::declval<Kernel>().template as<C>()) kernel;
+  C m = 0.0, c0 = 0.0, h = 0.0, mu = 0.0, alpha = 0.0, delta_h_c0 = 0.0;
+  std::array<C, Dim> g{};
+  C inv_w_dx = 0.0;  // 1 / W(dx), for the artificial pressure
+  int ap_n = 0;      // artificial pressure exponent
+  C far_r2 = 0.0;    // beyond the support
+  // The particle fields (physics/particle_terms.hpp); a density is rho_base + rho[i].
+  std::array<const R*, Dim> v{};
+  const R *rho = nullptr, *inv_rho = nullptr, *p_over_rho2 = nullptr, *hydro_k = nullptr, *fluid = nullptr,
+          *tension = nullptr;
+  C rho_base = 0.0;
+
+  // The same pair with its constants as T.
+  template <class T>
+  WcsphPair<Dim, Kernel, Walls, WithArtificialPressure, R, T> with() const {
+    const auto c = [](double x) { return simd::opaque(T(x)); };
+    WcsphPair<Dim, Kernel, Walls, WithArtificialPressure, R, T> q{kernel.template as<T>()};
+    q.kernel.h = c(kernel.h);
+    q.kernel.inv_h = c(kernel.inv_h);
+    q.kernel.norm = c(kernel.norm);
+    q.m = c(m);
+    q.c0 = c(c0);
+    q.h = c(h);
+    q.mu = c(mu);
+    q.alpha = c(alpha);
+    q.delta_h_c0 = c(delta_h_c0);
+    for (int d = 0; d < Dim; ++d) q.g[d] = c(g[d]);
+    q.inv_w_dx = c(inv_w_dx);
+    q.ap_n = ap_n;
+    q.far_r2 = c(far_r2);
+    q.v = v;
+    q.rho = rho;
+    q.inv_rho = inv_rho;
+    q.p_over_rho2 = p_over_rho2;
+    q.hydro_k = hydro_k;
+    q.fluid = fluid;
+    q.tension = tension;
+    q.rho_base = c(rho_base);
+    return q;
+  }
 
   // The interaction of the run's settings over the particles' fields.
   static WcsphPair of(const Particles<Dim>& p, const RateSettings<Dim>& s, const ParticleTerms& t) {
@@ -56,18 +91,20 @@ struct WcsphPair {
     pair.inv_w_dx = WithArtificialPressure ? 1.0 / kernel.value(s.spacing) : 0.0;
     pair.ap_n = s.artificial_pressure_exponent;
     pair.far_r2 = Kernel::support * Kernel::support * s.h * s.h;
-    for (int d = 0; d < Dim; ++d) pair.v[d] = p.velocity[d].data();
-    pair.rho = p.density.data();
-    pair.inv_rho = t.inv_rho.data();
-    pair.p_over_rho2 = t.p_over_rho2.data();
-    pair.hydro_k = t.hydro_k.data();
-    pair.fluid = t.fluid_mask.data();
-    pair.tension = t.tension.data();
+    const PairFields<R> f = t.template fields<R>(p);
+    for (int d = 0; d < Dim; ++d) pair.v[d] = f.v[d];
+    pair.rho = f.rho;
+    pair.inv_rho = f.inv_rho;
+    pair.p_over_rho2 = f.p_over_rho2;
+    pair.hydro_k = f.hydro_k;
+    pair.fluid = f.fluid;
+    pair.tension = f.tension;
+    pair.rho_base = f.rho_base;
     return pair;
   }
 
-  // One side of a pair, each field read by `load(array)`: a broadcast of particle i, or a gather of
-  // the neighbours j.
+  // One side of a pair, each field read by `load(array)`: a broadcast of particle i, or a load of
+  // the candidates j. (Densities are rho - rho_base: their differences are those of rho.)
   template <class T, class Load>
   Side<T> side(Load&& load) const {
     Side<T> s;
@@ -93,12 +130,12 @@ struct WcsphPair {
       v2 = v2 + v_ij[d] * v_ij[d];
     }
     const T r = simd::sqrt(r2);
-    const T F = shape::gradient_factor(kernel, r, simd::quotient(T(1.0), r));
+    const T F = shape::gradient_factor(kernel, r, simd::inverse_root(r2, r));
     const T both_fluid = i.fluid * j.fluid;
     const T alpha_ij = Walls::fluid_wall_viscosity ? T(alpha) : both_fluid * alpha;
 
     T along_r = pair::pressure(m, i.p_over_rho2, j.p_over_rho2, F) +
-                pair::artificial_viscosity(alpha_ij, c0, h, m, v_dot_r, r2, 0.5 * (i.rho + j.rho), F);
+                pair::artificial_viscosity(alpha_ij, c0, h, m, v_dot_r, r2, rho_base + 0.5 * (i.rho + j.rho), F);
     if constexpr (WithArtificialPressure) {
       const T f = shape::value_inside(kernel, r) * inv_w_dx;
       T f_n = 1.0;

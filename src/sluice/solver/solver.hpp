@@ -138,6 +138,7 @@ class Solver {
   WallTreatment walls_;
   RateSettings<Dim> settings_{};
   ParticleTerms terms_;
+  Vec<Dim> pair_origin_{};  // the middle of the tank: single-precision positions are relative to it
   ShiftingSums shifting_sums_{};
   ShiftingSettings shifting_{};
   ParticleShifting<Dim> shift_;

@@ -70,6 +70,7 @@ void Solver<Dim>::init(const Case& c) {
     upper[d] = size[d] + margin;
   }
   grid_ = CellGrid<Dim>(lower, upper, 2.0 * h);
+  for (int d = 0; d < Dim; ++d) pair_origin_[d] = 0.5 * size[d];
 }
 
 template <int Dim>
@@ -87,7 +88,8 @@ RateSummary Solver<Dim>::evaluate(bool shepard_due, bool mid_step, bool last) {
   std::visit([&](const auto& walls, const auto& kernel) {
     walls.before_rates(particles_, grid_, kernel, settings_.eos, settings_.gravity, threads_);
   }, walls_, kernel_);
-  terms_.compute(particles_, settings_.eos, threads_, settings_.artificial_pressure);
+  terms_.compute(particles_, settings_.eos, threads_, settings_.artificial_pressure,
+                 case_.pair_precision == Precision::single, pair_origin_);
   const RateSummary summary = compute_rates(particles_, grid_, kernel_, walls_, settings_, terms_, threads_);
   std::visit([&](const auto& walls) { walls.after_rates(particles_); }, walls_);
   if (last && shifting_.coefficient > 0.0)
