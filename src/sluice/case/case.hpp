@@ -27,8 +27,8 @@ inline constexpr std::array<std::string_view, 3> wall_boundary_names = {"dynamic
 enum class WallSlip { no_slip, free_slip };
 inline constexpr std::array<std::string_view, 2> wall_slip_names = {"no_slip", "free_slip"};
 
-enum class Integrator { predictor_corrector, euler };
-inline constexpr std::array<std::string_view, 2> integrator_names = {"predictor_corrector", "euler"};
+enum class Integrator { predictor_corrector, euler, leapfrog };
+inline constexpr std::array<std::string_view, 3> integrator_names = {"predictor_corrector", "euler", "leapfrog"};
 
 enum class Shape { box, polygon, mesh };
 inline constexpr std::array<std::string_view, 3> shape_names = {"box", "polygon", "mesh"};
