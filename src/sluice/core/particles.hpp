@@ -65,7 +65,8 @@ struct Particles {
   Vector<double> position_start;
   Vector<double> velocity_start;
   std::vector<double> density_start;
-  // The rates at the start of a leapfrog step, a^n and D^n, which its evaluation's reordering moves.
+  // The rates at the start of a leapfrog step, a^n and D^n, which its evaluation's reordering moves
+  // (empty with the other integrators: Solver::init).
   Vector<double> acceleration_start;
   std::vector<double> density_rate_start;
 

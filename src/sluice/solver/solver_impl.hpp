@@ -39,8 +39,13 @@ Solver<Dim>::Solver(const Case& c, Particles<Dim> particles, Clock clock, int th
 template <int Dim>
 void Solver<Dim>::init(const Case& c) {
   case_ = c;
-  // Only the leapfrog carries rates from one step into the next.
-  if (c.integrator != Integrator::leapfrog) clock_.rates_carried = false;
+  // Only the leapfrog carries rates from one step into the next, and only it uses the rates at a
+  // step's start: the other integrators do not keep their memory.
+  if (c.integrator != Integrator::leapfrog) {
+    clock_.rates_carried = false;
+    for (auto& component : particles_.acceleration_start) std::vector<double>().swap(component);
+    std::vector<double>().swap(particles_.density_rate_start);
+  }
   const double h = c.smoothing_length();
   settings_.mass = c.rest_density;
   for (int d = 0; d < Dim; ++d) settings_.mass *= c.dx;  // rho0 dx^Dim
