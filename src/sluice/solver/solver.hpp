@@ -48,7 +48,9 @@ struct Diagnostics {
   double total_mass = 0.0;       // fluid
   std::int64_t leaks = 0;
   bool all_finite = true;
-  double min_particle_distance = 0.0;  // fluid to any particle, at the last step's first evaluation (NaN before)
+  // Fluid to any particle, at the evaluation of the state the last step started from (its first; the
+  // leapfrog's carried one); NaN before the first step.
+  double min_particle_distance = 0.0;
 };
 
 // A particle that makes a run unusable: non-finite, far outside the tank, or at an absurd density.
