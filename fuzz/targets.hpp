@@ -78,12 +78,19 @@ inline Outcome check_checkpoint_bytes(const std::string& bytes) {
   require(usable(cp.clock.time) && usable(cp.clock.last_dt) && usable(cp.wall_seconds) && cp.clock.step >= 0 &&
               cp.clock.leaks >= 0,
           "an accepted checkpoint has an impossible clock");
+  // The leapfrog's carried rates choose the next time step.
+  const RateSummary& r = cp.clock.rates;
+  require(!cp.clock.rates_carried || (usable(r.max_acceleration) && usable(r.max_relative_speed) &&
+                                      usable(r.max_density) && usable(r.min_fluid_distance)),
+          "an accepted checkpoint has an impossible summary of carried rates");
   std::visit(
       [&](const auto& p) {
         const std::size_t n = p.size();
         bool same_lengths = p.kind.size() == n && p.id.size() == n && p.needs_density_repair.size() == n;
         for (const auto& component : p.position) same_lengths = same_lengths && component.size() == n;
         for (const auto& component : p.velocity) same_lengths = same_lengths && component.size() == n;
+        for (const auto& component : p.acceleration) same_lengths = same_lengths && component.size() == n;
+        same_lengths = same_lengths && p.density_rate.size() == n;
         require(same_lengths, "an accepted checkpoint has particle arrays of different lengths");
         std::vector<bool> seen(n, false);
         for (std::size_t i = 0; i < n; ++i) {

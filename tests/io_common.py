@@ -193,7 +193,7 @@ def check_checkpoint_file(path):
 def checkpoint_without_wall_time(data):
     """A checkpoint's bytes with its wall-time field and checksum cut out. Layout: signature (8),
     version (4), dimension (4), case length (8), case text, time, step, last dt, leaks, wall seconds
-    (8 each), particles ..., CRC-32 (4)."""
+    (8 each), the rates carried (version 3), particles ..., CRC-32 (4)."""
     case_length = int.from_bytes(data[16:24], "little")
     wall = 24 + case_length + 32
     return data[:wall] + data[wall + 8:-4]

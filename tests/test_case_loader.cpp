@@ -315,9 +315,10 @@ TEST(CaseTypes, Bool) {
 TEST(CaseTypes, StringChoices) {
   EXPECT_EQ(parse("[domain]\nkernel = \"wendland_c2\"\n" + minimal_water).kernel, KernelType::wendland_c2);
   EXPECT_EQ(parse("[time]\nintegrator = \"euler\"\n" + minimal_water).integrator, Integrator::euler);
+  EXPECT_EQ(parse("[time]\nintegrator = \"leapfrog\"\n" + minimal_water).integrator, Integrator::leapfrog);
   expect_contains(parse_error("[time]\nintegrator = \"eulr\"\n" + minimal_water),
                   {"test.toml:2:14", "time.integrator = \"eulr\"", "unknown value", "did you mean \"euler\"?",
-                   "expected one of \"predictor_corrector\", \"euler\""});
+                   "expected one of \"predictor_corrector\", \"euler\", \"leapfrog\""});
   // An abbreviation finds its choice too.
   expect_contains(parse_error("[domain]\nkernel = \"wendland\"\n" + minimal_water),
                   {"domain.kernel", "did you mean \"wendland_c2\"?"});

@@ -238,7 +238,7 @@ TEST_F(Cli, BadValueInCaseFile) {
 TEST_F(Cli, UnknownValueInCaseFile) {
   write("bad.toml", "[time]\nintegrator = \"rk4\"\n" + minimal_water);
   expect_bad_input(sluice(with_tiny({"run", "bad.toml", "-o", "o"})),
-                   {"bad.toml:2:14", "time.integrator", "rk4", "one of \"predictor_corrector\", \"euler\""});
+                   {"bad.toml:2:14", "time.integrator", "rk4", "one of \"predictor_corrector\", \"euler\", \"leapfrog\""});
   expect_only({"bad.toml"});
 }
 

@@ -31,7 +31,7 @@ class Determinism : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(Determinism, OneAndTwoThreadsGiveBitIdenticalResults) {
   const std::string walls = GetParam();
-  for (const char* integrator : {"predictor_corrector", "euler"}) {
+  for (const char* integrator : {"predictor_corrector", "euler", "leapfrog"}) {
     Case c = *load_builtin_case("dam_break");
     apply_override(c, "domain.dx=0.1");
     apply_override(c, std::string("time.integrator=") + integrator);

@@ -369,7 +369,7 @@ TEST_F(CheckpointFile, AnotherFormatVersionNamesBothVersions) {
   std::memcpy(other.data() + 8, &version, sizeof version);
   const std::string message = error_of([&] { parse_checkpoint(other, "old.bin"); });
   EXPECT_NE(message.find("old.bin"), std::string::npos) << message;
-  EXPECT_NE(message.find(fmt::format("format version {}, this sluice reads version {}", version,
+  EXPECT_NE(message.find(fmt::format("format version {}, this sluice reads versions 2 and {}", version,
                                      checkpoint_format_version)),
             std::string::npos)
       << message;
@@ -381,6 +381,70 @@ TEST_F(CheckpointFile, AVersionOneCheckpointIsAClearError) {
   std::memcpy(old.data() + 8, &version, sizeof version);
   const std::string message = error_of([&] { parse_checkpoint(old, "old.bin"); });
   EXPECT_NE(message.find("old.bin: not a usable checkpoint: format version 1, written by an earlier sluice"),
+            std::string::npos)
+      << message;
+}
+
+// Version 2 (before the leapfrog) is version 3 without the rates-carried byte after the clock: such a
+// file still restarts, and continues exactly as the version 3 file of the same state.
+TEST_F(CheckpointFile, AVersionTwoCheckpointIsStillRead) {
+  ASSERT_FALSE(sim_->clock().rates_carried);
+  const std::string stored_case = case_template(sim_->config());
+  const std::size_t flag_at = 8 + 4 + 4 + 8 + stored_case.size() + 5 * 8;
+  ASSERT_EQ(bytes_.substr(8 + 4 + 4 + 8, stored_case.size()), stored_case);
+  ASSERT_EQ(bytes_[flag_at], '\0');
+  std::string old = bytes_;
+  old.erase(flag_at, 1);
+  const std::uint32_t version = 2;
+  std::memcpy(old.data() + 8, &version, sizeof version);
+  Checkpoint v2 = parse_checkpoint(with_crc_fixed(old), "v2.bin");
+  Checkpoint v3 = parse_checkpoint(bytes_, "v3.bin");
+  EXPECT_FALSE(v2.clock.rates_carried);
+  EXPECT_EQ(v2.clock.step, 25);
+  EXPECT_EQ(std::get<Particles<2>>(v2.particles).position[1], std::get<Particles<2>>(v3.particles).position[1]);
+  Simulation from_v2(v2.config, std::move(v2.particles), v2.clock, 1);
+  Simulation from_v3(v3.config, std::move(v3.particles), v3.clock, 1);
+  for (int i = 0; i < 10; ++i) {
+    from_v2.step();
+    from_v3.step();
+  }
+  EXPECT_EQ(from_v2.particles<2>().velocity[1], from_v3.particles<2>().velocity[1]);
+  EXPECT_EQ(from_v2.particles<2>().density, from_v3.particles<2>().density);
+}
+
+// The leapfrog's checkpoint also holds the rates it carries into the next step (acceleration and
+// density_rate, after the other fields) and their summary; carried rates with another integrator are
+// refused.
+TEST(LeapfrogCheckpoint, HoldsTheCarriedRatesAndTheirSummary) {
+  Case c = tiny_case();
+  c.integrator = Integrator::leapfrog;
+  Simulation sim(c, 1);
+  for (int i = 0; i < 25; ++i) sim.step();
+  ASSERT_TRUE(sim.clock().rates_carried);
+  const std::string bytes = checkpoint_bytes(sim, 1.0);
+  const auto repair = bytes.find("needs_density_repair");
+  const auto acceleration = bytes.find("acceleration", repair);
+  ASSERT_NE(repair, std::string::npos);
+  ASSERT_NE(acceleration, std::string::npos);
+  EXPECT_NE(bytes.find("density_rate", acceleration), std::string::npos);
+  const Checkpoint cp = parse_checkpoint(bytes, "lf.bin");
+  EXPECT_TRUE(cp.clock.rates_carried);
+  EXPECT_EQ(cp.clock.rates.max_acceleration, sim.clock().rates.max_acceleration);
+  EXPECT_EQ(cp.clock.rates.max_relative_speed, sim.clock().rates.max_relative_speed);
+  EXPECT_EQ(cp.clock.rates.max_density, sim.clock().rates.max_density);
+  EXPECT_EQ(cp.clock.rates.min_fluid_distance, sim.clock().rates.min_fluid_distance);
+  const auto& p = std::get<Particles<2>>(cp.particles);
+  EXPECT_EQ(p.acceleration[0], sim.particles<2>().acceleration[0]);
+  EXPECT_EQ(p.acceleration[1], sim.particles<2>().acceleration[1]);
+  EXPECT_EQ(p.density_rate, sim.particles<2>().density_rate);
+
+  // The same bytes with the stored case's integrator renamed (same length) and the CRC fixed.
+  std::string other = bytes;
+  const auto at = other.find("integrator = \"leapfrog\"");
+  ASSERT_NE(at, std::string::npos);
+  other.replace(at, 23, "integrator = \"euler\"   ");
+  const std::string message = error_of([&] { parse_checkpoint(with_crc_fixed(other), "x.bin"); });
+  EXPECT_NE(message.find("x.bin: not a usable checkpoint: rates carried over with the euler integrator"),
             std::string::npos)
       << message;
 }

@@ -45,6 +45,19 @@ def test_run_to_half_then_restart_with_a_later_end():
         check(n >= 25, f"only {n} files compared")
 
 
+def test_leapfrog_run_to_half_then_restart():
+    # The leapfrog carries the rates of a step's end into the next step: the checkpoint holds them, so
+    # the restart continues without evaluating anew, bit for bit (on two threads: the parallel paths).
+    reference = os.path.join(W, "leapfrog_reference")
+    run(args.sluice, CASE, "-o", reference, "--set", "time.integrator=leapfrog", threads=2)
+    d = os.path.join(W, "leapfrog_halves")
+    run(args.sluice, CASE, "-o", d, "--set", "time.integrator=leapfrog", "--set", "time.end=0.5", threads=2)
+    r = run(args.sluice, "--restart", os.path.join(d, "checkpoint.bin"), "--set", "time.end=1.0", threads=2)
+    check("(1 force evaluation per step)" in r.stdout, r.stdout)
+    n = assert_same_outputs(reference, d, "leapfrog restarted at 0.5 s vs uninterrupted")
+    check(n >= 25, f"only {n} files compared")
+
+
 def test_an_end_time_that_is_a_frame_time_up_to_rounding():
     # Frame 3 is at 3 * 0.1 = 0.30000000000000004 s; a run with time.end = 0.3 stops there too, so
     # its checkpoint continues the longer run exactly.
@@ -120,7 +133,7 @@ def test_bad_checkpoints_are_clear_errors_and_change_nothing():
     attempt(good[: len(good) - 1000], "checksum mismatch (the file is damaged or incomplete)")
     other_version = bytearray(good)
     other_version[8:12] = (99).to_bytes(4, "little")
-    attempt(bytes(other_version), "not a usable checkpoint: format version 99, this sluice reads version 2")
+    attempt(bytes(other_version), "not a usable checkpoint: format version 99, this sluice reads versions 2 and 3")
     attempt(b"time,step\n0,0\n" * 10, "it does not start with the sluice checkpoint signature")
     attempt(None, "no such checkpoint file", name="missing.bin")
     # The checkpoint is at the end of its run (0.5 s): continuing needs a later end.
@@ -130,5 +143,6 @@ def test_bad_checkpoints_are_clear_errors_and_change_nothing():
     attempt(good, "--set time.end=abc: time.end = ", status=2, extra=("--set", "time.end=abc"))
 
 
-main([test_run_to_half_then_restart_with_a_later_end, test_an_end_time_that_is_a_frame_time_up_to_rounding,
+main([test_run_to_half_then_restart_with_a_later_end, test_leapfrog_run_to_half_then_restart,
+      test_an_end_time_that_is_a_frame_time_up_to_rounding,
       test_ctrl_c_then_restart, test_bad_checkpoints_are_clear_errors_and_change_nothing])

@@ -56,6 +56,10 @@ class Simulation {
   [[nodiscard]] int force_evaluations_per_step() const {
     return visit([](const auto& s) { return s.force_evaluations_per_step(); });
   }
+  // Force evaluations made since the solver was built (Solver::force_evaluations).
+  [[nodiscard]] std::int64_t force_evaluations() const {
+    return visit([](const auto& s) { return s.force_evaluations(); });
+  }
   [[nodiscard]] int threads() const { return visit([](const auto& s) { return s.threads(); }); }
   [[nodiscard]] Diagnostics diagnostics() const { return visit([](const auto& s) { return s.diagnostics(); }); }
   // The instability guard (Solver::check_health).

@@ -29,8 +29,8 @@ inline constexpr std::array<std::string_view, 2> wall_slip_names = {"no_slip", "
 
 enum class Precision { double_, single };
 inline constexpr std::array<std::string_view, 2> precision_names = {"double", "single"};
-enum class Integrator { predictor_corrector, euler };
-inline constexpr std::array<std::string_view, 2> integrator_names = {"predictor_corrector", "euler"};
+enum class Integrator { predictor_corrector, euler, leapfrog };
+inline constexpr std::array<std::string_view, 3> integrator_names = {"predictor_corrector", "euler", "leapfrog"};
 
 enum class Shape { box, polygon, mesh };
 inline constexpr std::array<std::string_view, 3> shape_names = {"box", "polygon", "mesh"};

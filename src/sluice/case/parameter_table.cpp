@@ -174,10 +174,12 @@ const std::vector<Param<Case>>& case_params() {
       declare("time.end", &Case::end_time, "s", 30.0, 0.0, inf, "Simulated end time."),
       declare_choice<&Case::integrator>(
               "time.integrator", Integrator::predictor_corrector, integrator_names,
-              "Time integrator: forward Euler (one force evaluation per step) or predictor-corrector (two)."),
+              "Time integrator: predictor-corrector (midpoint, two force evaluations per step), forward Euler "
+              "(one) or leapfrog (kick-drift-kick velocity Verlet, one: the rates of a step's end carry into the "
+              "next step; integrate/integrators.hpp)."),
       declare("time.cfl", &Case::cfl, "", 0.2, 0.1, 0.3,
               "Courant number C_CFL: dt = C_CFL * min(h/|v_ij|max, sqrt(h/|a|max), h/c_max). Forward Euler amplifies "
-              "sound waves: use 0.1 with it."),
+              "sound waves: use 0.1 with it (the predictor-corrector and the leapfrog are stable at 0.2)."),
       declare("time.dt", &Case::fixed_dt, "s", 0.0, 0.0, inf, "Fixed time step; 0 = adaptive (recommended)."),
       declare("output.interval", &Case::output_interval, "s", 0.1, 1e-9, inf, "Simulated time between frames."),
       declare("output.formats", &Case::output_formats, "", std::vector<std::string>{"vtk", "npz"}, unbounded_lower,

@@ -25,6 +25,10 @@ inline constexpr unsigned step_start = 2;  // moves with a reordering during a m
 inline constexpr unsigned checkpoint = 4;  // saved in checkpoints
 inline constexpr unsigned halo = 8;        // read by the pair loop: what a neighbouring process must send
 inline constexpr unsigned frame = 16;      // written in output frames, in registry order
+// The rates a leapfrog step carries into the next (its a^n, D^n: integrate/integrators.hpp): saved in
+// checkpoints while they are carried (Clock::rates_carried).
+inline constexpr unsigned carried = 32;
+inline constexpr unsigned rates_start = 64;  // moves with the reordering during a leapfrog step only
 }  // namespace field_role
 
 struct FieldSpec {
@@ -51,14 +55,20 @@ struct Particles {
   // neighbours at the next force evaluation.
   std::vector<std::uint8_t> needs_density_repair;
 
-  // Rates from the last force evaluation (recomputed after every reordering).
+  // Rates from the last force evaluation. The reordering of an evaluation leaves them behind (they
+  // are recomputed after it); between evaluations nothing reorders, so the leapfrog carries them from
+  // one step into the next.
   Vector<double> acceleration;
   std::vector<double> density_rate;
 
-  // State at the start of a step (multi-stage integrators).
+  // State at the start of a step (multi-stage integrators; the instability guard goes back to it).
   Vector<double> position_start;
   Vector<double> velocity_start;
   std::vector<double> density_start;
+  // The rates at the start of a leapfrog step, a^n and D^n, which its evaluation's reordering moves
+  // (empty with the other integrators: Solver::init).
+  Vector<double> acceleration_start;
+  std::vector<double> density_rate_start;
 
   // The field registry: calls f(info, field) for every field, in a fixed order; `field` is a
   // std::vector<T> or a Vector<T>. Works on const and non-const particles.
@@ -71,11 +81,13 @@ struct Particles {
     f(FieldSpec{"kind", "", state | checkpoint | halo | frame, "kind"}, p.kind);
     f(FieldSpec{"id", "", state | checkpoint | halo | frame, "id"}, p.id);
     f(FieldSpec{"needs_density_repair", "", state | checkpoint}, p.needs_density_repair);
-    f(FieldSpec{"acceleration", "m/s^2", 0}, p.acceleration);
-    f(FieldSpec{"density_rate", "kg/m^3/s", 0}, p.density_rate);
+    f(FieldSpec{"acceleration", "m/s^2", carried}, p.acceleration);
+    f(FieldSpec{"density_rate", "kg/m^3/s", carried}, p.density_rate);
     f(FieldSpec{"position_start", "m", step_start}, p.position_start);
     f(FieldSpec{"velocity_start", "m/s", step_start}, p.velocity_start);
     f(FieldSpec{"density_start", "kg/m^3", step_start}, p.density_start);
+    f(FieldSpec{"acceleration_start", "m/s^2", rates_start}, p.acceleration_start);
+    f(FieldSpec{"density_rate_start", "kg/m^3/s", rates_start}, p.density_rate_start);
   }
 
   // Calls g(component) for each component array of a field (one for a scalar field).
@@ -127,11 +139,17 @@ struct Particles {
     for (std::size_t k = 0; k < keep.size(); ++k) id[k] = static_cast<std::uint32_t>(k);
   }
 
-  // Reorders the fields so that new index k holds what old index order[k] held. Rates are not
-  // reordered (they are recomputed after every reordering); the step-start state only when asked
-  // (during a multi-stage step). `scratch` holds the double fields in turn (no allocation per call).
+  // Reorders the fields so that new index k holds what old index order[k] held: the state, and the
+  // step-start state when asked (during a multi-stage step). Rates are not reordered (they are
+  // recomputed after every reordering).
   void permute(const std::vector<std::uint32_t>& order, std::vector<double>& scratch, bool with_step_start,
                int threads) {
+    reorder(order, scratch, with_step_start ? field_role::step_start : 0u, threads);
+  }
+
+  // The same for the state and the fields with any of the roles `also` (field_role::step_start,
+  // rates_start). `scratch` holds the double fields in turn (no allocation per call).
+  void reorder(const std::vector<std::uint32_t>& order, std::vector<double>& scratch, unsigned also, int threads) {
     const long n = static_cast<long>(size());
     scratch.resize(static_cast<std::size_t>(n));
     std::get<std::vector<Kind>>(scratch_).resize(static_cast<std::size_t>(n));
@@ -143,7 +161,7 @@ struct Particles {
     // the scratch array of the field's type, and one thread swaps it in.
     parallel::in_team(threads, n >= parallel::light_loop_threshold, [&](const parallel::Team& team) {
       fields(*this, [&](const FieldSpec& info, auto& field) {
-        if (!info.has(field_role::state) && !(with_step_start && info.has(field_role::step_start))) return;
+        if (!info.has(field_role::state) && !info.has(also)) return;
         components(field, [&](auto& c) {
           using T = typename std::remove_reference_t<decltype(c)>::value_type;
           std::vector<T>& out_array = scratch_for<T>(scratch);

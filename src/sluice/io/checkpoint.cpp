@@ -97,13 +97,20 @@ FieldLayout layout_of(Field& /*field*/) {
   return l;
 }
 
+// The roles of the fields a checkpoint holds: those marked `checkpoint`, and while the leapfrog
+// carries its rates into the next step, those marked `carried`.
+unsigned stored_roles(bool rates_carried) {
+  return field_role::checkpoint | (rates_carried ? field_role::carried : 0u);
+}
+
 template <int Dim>
-void put_particles(std::string& out, const Particles<Dim>& p) {
+void put_particles(std::string& out, const Particles<Dim>& p, bool rates_carried) {
+  const unsigned roles = stored_roles(rates_carried);
   std::uint32_t fields = 0;
-  Particles<Dim>::fields(p, [&](const FieldSpec& info, const auto&) { fields += info.has(field_role::checkpoint); });
+  Particles<Dim>::fields(p, [&](const FieldSpec& info, const auto&) { fields += info.has(roles); });
   put<std::uint32_t>(out, fields);
   Particles<Dim>::fields(p, [&](const FieldSpec& info, const auto& field) {
-    if (!info.has(field_role::checkpoint)) return;
+    if (!info.has(roles)) return;
     put<std::uint16_t>(out, static_cast<std::uint16_t>(info.name.size()));
     out += info.name;
     const FieldLayout layout = layout_of(field);
@@ -114,16 +121,19 @@ void put_particles(std::string& out, const Particles<Dim>& p) {
 }
 
 template <int Dim>
-Particles<Dim> get_particles(Reader& r, std::size_t n) {
+Particles<Dim> get_particles(Reader& r, std::size_t n, bool rates_carried) {
   Particles<Dim> p;
   p.resize(n);
+  const unsigned roles = stored_roles(rates_carried);
   const auto stored = r.get<std::uint32_t>();
   std::uint32_t expected = 0;
-  Particles<Dim>::fields(p, [&](const FieldSpec& info, const auto&) { expected += info.has(field_role::checkpoint); });
-  if (stored != expected) r.fail(fmt::format("{} particle fields, this sluice writes {}", stored, expected));
+  Particles<Dim>::fields(p, [&](const FieldSpec& info, const auto&) { expected += info.has(roles); });
+  if (stored != expected)
+    r.fail(fmt::format("{} particle fields, this sluice writes {}{}", stored, expected,
+                       rates_carried ? " with carried rates" : ""));
   // The fields in registry order, each named and typed as this sluice declares it.
   Particles<Dim>::fields(p, [&](const FieldSpec& info, auto& field) {
-    if (!info.has(field_role::checkpoint)) return;
+    if (!info.has(roles)) return;
     const auto length = r.get<std::uint16_t>();
     const std::string name = r.get_string(length);
     if (name != info.name) r.fail(fmt::format("field '{}' where '{}' was expected", name, info.name));
@@ -153,8 +163,15 @@ std::string checkpoint_bytes(const Simulation& sim, double wall_seconds) {
   put(out, c.last_dt);
   put(out, c.leaks);
   put(out, wall_seconds);
+  put<std::uint8_t>(out, c.rates_carried ? 1 : 0);
+  if (c.rates_carried) {
+    put(out, c.rates.max_acceleration);
+    put(out, c.rates.max_relative_speed);
+    put(out, c.rates.max_density);
+    put(out, c.rates.min_fluid_distance);
+  }
   put<std::uint64_t>(out, sim.particle_count());
-  sim.visit([&](const auto& solver) { put_particles(out, solver.particles()); });
+  sim.visit([&](const auto& solver) { put_particles(out, solver.particles(), c.rates_carried); });
   const auto crc = static_cast<std::uint32_t>(
       crc32(0L, reinterpret_cast<const Bytef*>(out.data()), static_cast<uInt>(out.size())));
   put(out, crc);
@@ -170,8 +187,9 @@ Checkpoint parse_checkpoint(const std::string& bytes, const std::string& source)
   if (version == 1)
     header.fail("format version 1, written by an earlier sluice (before the field table of version 2); run that "
                 "sluice to finish the run, or start the case again");
-  if (version != checkpoint_format_version)
-    header.fail(fmt::format("format version {}, this sluice reads version {}", version, checkpoint_format_version));
+  if (version != checkpoint_format_version && version != 2)
+    header.fail(fmt::format("format version {}, this sluice reads versions 2 and {}", version,
+                            checkpoint_format_version));
   std::uint32_t stored_crc = 0;
   std::memcpy(&stored_crc, bytes.data() + bytes.size() - sizeof stored_crc, sizeof stored_crc);
   const auto crc = static_cast<std::uint32_t>(
@@ -198,6 +216,28 @@ Checkpoint parse_checkpoint(const std::string& bytes, const std::string& source)
   cp.clock.last_dt = r.get<double>();
   cp.clock.leaks = r.get<std::int64_t>();
   cp.wall_seconds = r.get<double>();
+  // Version 2 (before the leapfrog) carries no rates.
+  if (version >= 3) {
+    const auto carried = r.get<std::uint8_t>();
+    if (carried > 1) r.fail(fmt::format("rates-carried flag {}, expected 0 or 1", carried));
+    cp.clock.rates_carried = carried == 1;
+  }
+  if (cp.clock.rates_carried) {
+    RateSummary& s = cp.clock.rates;
+    s.max_acceleration = r.get<double>();
+    s.max_relative_speed = r.get<double>();
+    s.max_density = r.get<double>();
+    s.min_fluid_distance = r.get<double>();
+    auto usable_rate = [](double v) { return std::isfinite(v) && v >= 0.0; };
+    if (!usable_rate(s.max_acceleration) || !usable_rate(s.max_relative_speed) || !usable_rate(s.max_density) ||
+        !usable_rate(s.min_fluid_distance))
+      r.fail(fmt::format("impossible summary of the carried rates (max acceleration {}, max relative speed {}, max "
+                         "density {}, min distance {})",
+                         s.max_acceleration, s.max_relative_speed, s.max_density, s.min_fluid_distance));
+    if (cp.config.integrator != Integrator::leapfrog)
+      r.fail(fmt::format("rates carried over with the {} integrator (only the leapfrog carries them)",
+                         name_of(cp.config.integrator, integrator_names)));
+  }
   // A run's clock starts at zero and only moves forward. A negative or non-finite time (possible only in
   // a crafted file, the CRC passing) made a restart step forever from t = -1e300 or run to "t = nan".
   auto usable = [](double v) { return std::isfinite(v) && v >= 0.0; };
@@ -217,11 +257,11 @@ Checkpoint parse_checkpoint(const std::string& bytes, const std::string& source)
     }
   };
   if (dimension == 3) {
-    Particles<3> p = get_particles<3>(r, n);
+    Particles<3> p = get_particles<3>(r, n, cp.clock.rates_carried);
     check(p);
     cp.particles = std::move(p);
   } else {
-    Particles<2> p = get_particles<2>(r, n);
+    Particles<2> p = get_particles<2>(r, n, cp.clock.rates_carried);
     check(p);
     cp.particles = std::move(p);
   }

@@ -26,6 +26,12 @@ struct Clock {
   std::int64_t step = 0;
   double last_dt = 0.0;
   std::int64_t leaks = 0;  // fluid particles put back from inside a wall, summed over the run
+  // The leapfrog carries the rates of a step's end into the next step: while `rates_carried`, the
+  // particles' acceleration and density_rate are the rates of the current state and `rates` their
+  // summary (which chooses the next dt). Anything that changes the state outside an evaluation (a
+  // particle put back from inside a wall) clears it, and the next step evaluates first.
+  bool rates_carried = false;
+  RateSummary rates{};
 };
 
 struct Diagnostics {
@@ -42,7 +48,9 @@ struct Diagnostics {
   double total_mass = 0.0;       // fluid
   std::int64_t leaks = 0;
   bool all_finite = true;
-  double min_particle_distance = 0.0;  // fluid to any particle, at the last step's first evaluation (NaN before)
+  // Fluid to any particle, at the evaluation of the state the last step started from (its first; the
+  // leapfrog's carried one); NaN before the first step.
+  double min_particle_distance = 0.0;
 };
 
 // A particle that makes a run unusable: non-finite, far outside the tank, or at an absurd density.
@@ -87,6 +95,9 @@ class Solver {
   [[nodiscard]] int force_evaluations_per_step() const {
     return case_.integrator == Integrator::predictor_corrector ? 2 : 1;
   }
+  // Force evaluations made by this solver since it was built (the leapfrog: one per step, and one more
+  // at a step that starts without carried rates: the first, and the one after a leak).
+  [[nodiscard]] std::int64_t force_evaluations() const { return evaluations_; }
   [[nodiscard]] int threads() const { return threads_; }
   // The particle shift of the last step (zone, div r, shift velocity), when shifting is on.
   [[nodiscard]] const ParticleShifting<Dim>& shifting() const { return shift_; }
@@ -121,13 +132,24 @@ class Solver {
 
  private:
   void init(const Case& c);
-  // Rebuilds the neighbour grid (reordering the particles by cell), applies the Shepard filter when
-  // due and any pending density repairs, and computes the rates; at the step's last evaluation
+  // Rebuilds the neighbour grid (reordering the particles by cell, and with them the fields of the
+  // roles `also_moved`: field_role::step_start, rates_start during a step), applies the Shepard filter
+  // when due and any pending density repairs, and computes the rates; at the step's last evaluation
   // (`last`), also the particle shift when it is on.
-  RateSummary evaluate(bool shepard_due, bool mid_step, bool last);
+  RateSummary evaluate(bool shepard_due, unsigned also_moved, bool last);
+  // One step of the leapfrog (integrate/integrators.hpp).
+  void leapfrog_step(double time_limit, bool shepard_due);
   // This process's maxima and minimum combined with the other processes' (reducer()).
   RateSummary global(const RateSummary& r) const;
   double choose_dt(const RateSummary& r) const;
+  // choose_dt, checked (throws if not a positive finite number) and cut to land on time_limit.
+  struct StepSize {
+    double dt;
+    bool reaches_limit;
+  };
+  StepSize step_size(const RateSummary& r, double time_limit) const;
+  // After the update: the particle shift, the put-back of leaked particles, the clock.
+  void finish_step(const StepSize& size, double time_limit);
 
   Case case_;
   Particles<Dim> particles_;
@@ -147,6 +169,7 @@ class Solver {
   double min_particle_distance_ = std::numeric_limits<double>::quiet_NaN();  // unknown before the first step
   Clock saved_clock_;
   bool has_saved_state_ = false;
+  std::int64_t evaluations_ = 0;
   int threads_ = 1;
   const Reducer* reducer_ = &serial_reducer();
   std::size_t removed_near_coincident_ = 0;

@@ -39,6 +39,13 @@ Solver<Dim>::Solver(const Case& c, Particles<Dim> particles, Clock clock, int th
 template <int Dim>
 void Solver<Dim>::init(const Case& c) {
   case_ = c;
+  // Only the leapfrog carries rates from one step into the next, and only it uses the rates at a
+  // step's start: the other integrators do not keep their memory.
+  if (c.integrator != Integrator::leapfrog) {
+    clock_.rates_carried = false;
+    for (auto& component : particles_.acceleration_start) std::vector<double>().swap(component);
+    std::vector<double>().swap(particles_.density_rate_start);
+  }
   const double h = c.smoothing_length();
   settings_.mass = c.rest_density;
   for (int d = 0; d < Dim; ++d) settings_.mass *= c.dx;  // rho0 dx^Dim
@@ -74,9 +81,10 @@ void Solver<Dim>::init(const Case& c) {
 }
 
 template <int Dim>
-RateSummary Solver<Dim>::evaluate(bool shepard_due, bool mid_step, bool last) {
+RateSummary Solver<Dim>::evaluate(bool shepard_due, unsigned also_moved, bool last) {
+  ++evaluations_;
   grid_.bin(particles_.position, threads_);
-  particles_.permute(grid_.order(), scratch_, mid_step, threads_);
+  particles_.reorder(grid_.order(), scratch_, also_moved, threads_);
   grid_binned_ = true;
   const bool repair_due = std::any_of(particles_.needs_density_repair.begin(), particles_.needs_density_repair.end(),
                                       [](std::uint8_t f) { return f != 0; });
@@ -116,24 +124,34 @@ double Solver<Dim>::choose_dt(const RateSummary& r) const {
 }
 
 template <int Dim>
-void Solver<Dim>::step(double time_limit) {
-  const bool shepard_due = case_.shepard_every > 0 && clock_.step > 0 && clock_.step % case_.shepard_every == 0;
-  has_saved_state_ = false;
-  const bool euler = case_.integrator != Integrator::predictor_corrector;
-  const RateSummary rates = global(evaluate(shepard_due, false, euler));
-  min_particle_distance_ = rates.min_fluid_distance;
-  saved_clock_ = clock_;
-  double dt = choose_dt(rates);
+typename Solver<Dim>::StepSize Solver<Dim>::step_size(const RateSummary& rates, double time_limit) const {
+  const double dt = choose_dt(rates);
   if (!(dt > 0.0) || !std::isfinite(dt))
     throw std::runtime_error(fmt::format("time step {} at t = {} s is not a positive finite number", dt, clock_.time));
   // Land exactly on the limit (an output time) rather than step past it.
-  const bool reaches_limit = clock_.time + dt >= time_limit;
-  if (reaches_limit) dt = time_limit - clock_.time;
+  if (clock_.time + dt >= time_limit) return {time_limit - clock_.time, true};
+  return {dt, false};
+}
+
+template <int Dim>
+void Solver<Dim>::step(double time_limit) {
+  const bool shepard_due = case_.shepard_every > 0 && clock_.step > 0 && clock_.step % case_.shepard_every == 0;
+  has_saved_state_ = false;
+  if (case_.integrator == Integrator::leapfrog) {
+    leapfrog_step(time_limit, shepard_due);
+    return;
+  }
+  const bool euler = case_.integrator == Integrator::euler;
+  const RateSummary rates = global(evaluate(shepard_due, 0u, euler));
+  min_particle_distance_ = rates.min_fluid_distance;
+  saved_clock_ = clock_;
+  const StepSize size = step_size(rates, time_limit);
+  const double dt = size.dt;
   const double floor = settings_.eos.rest_density;
   if (case_.integrator == Integrator::predictor_corrector) {
     predictor_update(particles_, dt, floor, threads_);
     has_saved_state_ = true;
-    evaluate(false, true, true);
+    evaluate(false, field_role::step_start, true);
     corrector_update(particles_, dt, floor, threads_);
   } else {
     particles_.position_start = particles_.position;
@@ -142,9 +160,48 @@ void Solver<Dim>::step(double time_limit) {
     has_saved_state_ = true;
     euler_update(particles_, dt, floor, threads_);
   }
+  finish_step(size, time_limit);
+}
+
+// The leapfrog (integrate/integrators.hpp): the rates of the state at the step's start, a(n) and D(n),
+// are those its last evaluation left (carried, also through a checkpoint); a step that starts
+// without them evaluates them first. The Shepard filter, when due, is applied at the step's first
+// evaluation, as with the other integrators: the one at its end if the rates were carried (to the
+// predicted densities, whose change the final kick keeps).
+template <int Dim>
+void Solver<Dim>::leapfrog_step(double time_limit, bool shepard_due) {
+  if (!clock_.rates_carried) {
+    clock_.rates = global(evaluate(shepard_due, 0u, false));
+    clock_.rates_carried = true;
+    shepard_due = false;
+  }
+  min_particle_distance_ = clock_.rates.min_fluid_distance;
+  saved_clock_ = clock_;
+  const StepSize size = step_size(clock_.rates, time_limit);
+  const double dt = size.dt;
+  const double floor = settings_.eos.rest_density;
+  Particles<Dim>& p = particles_;
+  // a(n), D(n) to the step-start fields, where the evaluation's reordering moves them with y(n).
+  std::swap(p.acceleration, p.acceleration_start);
+  std::swap(p.density_rate, p.density_rate_start);
+  leapfrog_kick_drift(p, dt, floor, threads_);
+  has_saved_state_ = true;
+  clock_.rates = global(evaluate(shepard_due, field_role::step_start | field_role::rates_start, true));
+  leapfrog_final_kick(p, dt, floor, threads_);
+  finish_step(size, time_limit);
+}
+
+// What follows every integrator's update: the particle shift, the put-back of leaked particles, the clock.
+template <int Dim>
+void Solver<Dim>::finish_step(const StepSize& size, double time_limit) {
+  const double dt = size.dt;
   if (shifting_.coefficient > 0.0) shift_.apply(particles_, dt, threads_);
-  clock_.leaks += static_cast<std::int64_t>(put_back_leaked(particles_, solids_, case_.dx, threads_));
-  clock_.time = reaches_limit ? time_limit : clock_.time + dt;
+  const auto leaked = static_cast<std::int64_t>(put_back_leaked(particles_, solids_, case_.dx, threads_));
+  clock_.leaks += leaked;
+  // A put-back particle moved (and its density is repaired at the next evaluation): the carried
+  // rates are no longer those of the state. Every process decides alike.
+  if (clock_.rates_carried && reducer_->sum(leaked) > 0) clock_.rates_carried = false;
+  clock_.time = size.reaches_limit ? time_limit : clock_.time + dt;
   clock_.last_dt = dt;
   ++clock_.step;
 }
@@ -253,8 +310,10 @@ Health Solver<Dim>::check_health(std::size_t max_reported) const {
 }
 
 // The state at the start of the step (after the reordering of its first evaluation) lives in the
-// step-start arrays, which the predictor-corrector fills anyway; forward Euler does not use them, so
-// step() fills them there too. No extra memory; restore_saved_state() copies them back.
+// step-start arrays, which the predictor-corrector and the leapfrog fill anyway; forward Euler does
+// not use them, so step() fills them there too. No extra memory; restore_saved_state() copies them
+// back, and for the leapfrog the rates a(n), D(n) it carried into the step (the reordering moved all
+// of them alike), so that a restart from the state saved then continues as the step did.
 template <int Dim>
 void Solver<Dim>::restore_saved_state() {
   if (!has_saved_state_) return;
@@ -262,6 +321,10 @@ void Solver<Dim>::restore_saved_state() {
   p.position = p.position_start;
   p.velocity = p.velocity_start;
   p.density = p.density_start;
+  if (case_.integrator == Integrator::leapfrog) {
+    p.acceleration = p.acceleration_start;
+    p.density_rate = p.density_rate_start;
+  }
   std::fill(p.needs_density_repair.begin(), p.needs_density_repair.end(), 0);
   clock_ = saved_clock_;
 }
