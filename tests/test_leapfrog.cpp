@@ -2,7 +2,7 @@
 // harmonic oscillator (second order, energy bounded where the predictor-corrector's grows), one force
 // evaluation per step through the solver, bit-identical results on 1 and 2 threads, exact restarts
 // from a checkpoint (with the carried rates, and after a leak cleared them), and the instability
-// guard's way back to the start of a step.
+// guard's way back to the start of a step. (Still water with the leapfrog, 2D and 3D: test_physics.cpp.)
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -268,26 +268,4 @@ TEST(Leapfrog, RestoreSavedStateGoesBackToTheStartOfTheStepWithItsRates) {
   Simulation again(cp.config, std::move(cp.particles), cp.clock, 1);
   again.step();
   EXPECT_EQ(state_by_id<2>(again), after_one);
-}
-
-// The same solver in 3D: the built-in still water stays at rest with the leapfrog at the default CFL.
-TEST(Leapfrog, StillWater3DStaysAtRest) {
-  Case c = *load_builtin_case("still_water_3d");
-  apply_override(c, "time.integrator=leapfrog");
-  Simulation sim(c, 1);
-  ASSERT_EQ(sim.dimension(), 3);
-  const double g = 9.81, depth = 0.5, end = 0.5;
-  double worst_speed = 0.0;
-  std::int64_t steps = 0;
-  while (sim.time() < end) {
-    sim.step(end);
-    worst_speed = std::max(worst_speed, sim.diagnostics().max_speed);
-    ++steps;
-  }
-  std::printf("3D still water, leapfrog, %.2f s: max |v| %.5f sqrt(gH), %lld steps, %lld evaluations\n", sim.time(),
-              worst_speed / std::sqrt(g * depth), static_cast<long long>(steps),
-              static_cast<long long>(sim.force_evaluations()));
-  EXPECT_LT(worst_speed, 0.02 * std::sqrt(g * depth));
-  EXPECT_EQ(sim.clock().leaks, 0);
-  EXPECT_EQ(sim.force_evaluations(), steps + 1);
 }

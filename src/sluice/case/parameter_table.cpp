@@ -176,7 +176,7 @@ const std::vector<Param<Case>>& case_params() {
               "time.integrator", Integrator::predictor_corrector, integrator_names,
               "Time integrator: predictor-corrector (midpoint, two force evaluations per step), forward Euler "
               "(one) or leapfrog (kick-drift-kick velocity Verlet, one: the rates of a step's end carry into the "
-              "next step; integrate/integrators.hpp)."),
+              "next step; see README \"Time integration\")."),
       declare("time.cfl", &Case::cfl, "", 0.2, 0.1, 0.3,
               "Courant number C_CFL: dt = C_CFL * min(h/|v_ij|max, sqrt(h/|a|max), h/c_max). Forward Euler amplifies "
               "sound waves: use 0.1 with it (the predictor-corrector and the leapfrog are stable at 0.2)."),

@@ -27,9 +27,10 @@ struct Clock {
   double last_dt = 0.0;
   std::int64_t leaks = 0;  // fluid particles put back from inside a wall, summed over the run
   // The leapfrog carries the rates of a step's end into the next step: while `rates_carried`, the
-  // particles' acceleration and density_rate are the rates of the current state and `rates` their
-  // summary (which chooses the next dt). Anything that changes the state outside an evaluation (a
-  // particle put back from inside a wall) clears it, and the next step evaluates first.
+  // particles' acceleration and density_rate are a(n), D(n) of the current state (evaluated at its
+  // positions with the predicted v*, rho*: integrate/integrators.hpp) and `rates` their summary, which
+  // chooses the next dt. Anything that changes the state outside an evaluation (a particle put back
+  // from inside a wall) clears it, and the next step evaluates first.
   bool rates_carried = false;
   RateSummary rates{};
 };
