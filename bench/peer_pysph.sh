@@ -2,7 +2,8 @@
 # Side-by-side speed of PySPH's 2D dam break and sluice's mirror of it (bench/peer_pysph_dam_break.toml),
 # both on one thread, run one after the other in one go. Not part of CI.
 #
-#   bash bench/peer_pysph.sh [END_TIME]     (default 0.5 s of simulated time; PySPH's own is 2.5 s)
+#   bash bench/peer_pysph.sh [END_TIME] [sluice run options...]
+#       (default 0.5 s of simulated time; PySPH's own is 2.5 s; e.g. --set domain.pair_precision=single)
 #
 # Needs Debian's python3-pysph (apt-get install python3-pysph) and a release build (make build).
 # Speed is particles x force evaluations / wall seconds; PySPH's PECIntegrator evaluates once per
@@ -10,6 +11,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 end=${1:-0.5}
+shift || true
+extra=("$@")
 example=/usr/lib/python3/dist-packages/pysph/examples/dam_break_2d.py
 [ -f "$example" ] || { echo "peer_pysph: $example not found; apt-get install python3-pysph" >&2; exit 1; }
 sluice=${SLUICE:-build/release/sluice}  # SLUICE=path/to/sluice compares another build
@@ -23,7 +26,7 @@ p_wall=$(awk '/Run took:/ {print $3}' "$work/pysph.txt")
 p_evals=$(awk -F, '$3 == "acceleration_eval_0" {print $4}' "$work/pysph/profile_info.csv")
 
 "$sluice" run bench/peer_pysph_dam_break.toml --set time.end="$end" --set output.interval="$end" \
-  --threads 1 -q -o "$work/sluice" > "$work/sluice.txt"
+  --threads 1 -q -o "$work/sluice" "${extra[@]}" > "$work/sluice.txt"
 s_particles=$(awk '/particles/ {print $2; exit}' "$work/sluice.txt")
 s_steps=$(awk '/steps/ {print $2; exit}' "$work/sluice.txt")
 s_per_step=$(awk '/steps/ {gsub(/\(/, "", $3); print $3; exit}' "$work/sluice.txt")
