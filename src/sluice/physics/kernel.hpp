@@ -20,7 +20,7 @@ struct CubicSpline {
   Num inv_h;
   Num norm;  // sigma / h^Dim
 
-  CubicSpline(Num h_, Num inv_h_, Num norm_) : h(h_), inv_h(inv_h_), norm(norm_) {}
+  CubicSpline(const Num& h_, const Num& inv_h_, const Num& norm_) : h(h_), inv_h(inv_h_), norm(norm_) {}
   template <class T>
   [[nodiscard]] CubicSpline<Dim, T> as() const {
     return {T(h), T(inv_h), T(norm)};
@@ -53,7 +53,7 @@ struct WendlandC2 {
   Num inv_h;
   Num norm;
 
-  WendlandC2(Num h_, Num inv_h_, Num norm_) : h(h_), inv_h(inv_h_), norm(norm_) {}
+  WendlandC2(const Num& h_, const Num& inv_h_, const Num& norm_) : h(h_), inv_h(inv_h_), norm(norm_) {}
   template <class T>
   [[nodiscard]] WendlandC2<Dim, T> as() const {
     return {T(h), T(inv_h), T(norm)};
