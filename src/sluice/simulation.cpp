@@ -8,27 +8,29 @@ namespace sluice {
 
 namespace {
 
-std::variant<Solver<2>, Solver<3>> make_solver(const Case& c, int threads) {
-  if (c.dimension == 3) return Solver<3>(c, threads);
-  if (c.dimension == 2) return Solver<2>(c, threads);
+std::variant<Solver<2>, Solver<3>> make_solver(const Case& c, int threads, const Communicator* comm) {
+  if (c.dimension == 3) return Solver<3>(c, threads, comm);
+  if (c.dimension == 2) return Solver<2>(c, threads, comm);
   throw std::invalid_argument(fmt::format("domain.dimension = {}: expected 2 or 3", c.dimension));
 }
 
-std::variant<Solver<2>, Solver<3>> resume_solver(const Case& c, AnyParticles particles, Clock clock, int threads) {
+std::variant<Solver<2>, Solver<3>> resume_solver(const Case& c, AnyParticles particles, Clock clock, int threads,
+                                                  const Communicator* comm) {
   const int dim = std::holds_alternative<Particles<3>>(particles) ? 3 : 2;
   if (dim != c.dimension)
     throw std::invalid_argument(
         fmt::format("saved particles are {}D but the case is {}D (domain.dimension = {})", dim, c.dimension,
                     c.dimension));
-  if (dim == 3) return Solver<3>(c, std::get<Particles<3>>(std::move(particles)), clock, threads);
-  return Solver<2>(c, std::get<Particles<2>>(std::move(particles)), clock, threads);
+  if (dim == 3) return Solver<3>(c, std::get<Particles<3>>(std::move(particles)), clock, threads, comm);
+  return Solver<2>(c, std::get<Particles<2>>(std::move(particles)), clock, threads, comm);
 }
 
 }  // namespace
 
-Simulation::Simulation(const Case& c, int threads) : solver_(make_solver(c, threads)) {}
+Simulation::Simulation(const Case& c, int threads, const Communicator* comm)
+    : solver_(make_solver(c, threads, comm)) {}
 
-Simulation::Simulation(const Case& c, AnyParticles particles, Clock clock, int threads)
-    : solver_(resume_solver(c, std::move(particles), clock, threads)) {}
+Simulation::Simulation(const Case& c, AnyParticles particles, Clock clock, int threads, const Communicator* comm)
+    : solver_(resume_solver(c, std::move(particles), clock, threads, comm)) {}
 
 }  // namespace sluice

@@ -15,10 +15,11 @@ using AnyParticles = std::variant<Particles<2>, Particles<3>>;
 
 class Simulation {
  public:
-  // Builds the particles of a case (setup) and starts at t = 0.
-  explicit Simulation(const Case& c, int threads = 1);
+  // Builds the particles of a case (setup) and starts at t = 0; with a communicator of several
+  // processes, each holds its region's share (Solver).
+  explicit Simulation(const Case& c, int threads = 1, const Communicator* comm = nullptr);
   // Continues from a saved state (restart); the particles' dimension must be the case's.
-  Simulation(const Case& c, AnyParticles particles, Clock clock, int threads = 1);
+  Simulation(const Case& c, AnyParticles particles, Clock clock, int threads = 1, const Communicator* comm = nullptr);
 
   // The solver itself, for code written for any dimension: f(solver) with a Solver<2> or Solver<3>.
   template <class F>
@@ -44,8 +45,13 @@ class Simulation {
   [[nodiscard]] const Case& config() const {
     return visit([](const auto& s) -> const Case& { return s.config(); });
   }
+  // Particles on all processes.
   [[nodiscard]] std::size_t particle_count() const {
-    return visit([](const auto& s) { return s.particles().size(); });
+    return visit([](const auto& s) { return s.particle_count(); });
+  }
+  // The process that writes the outputs (always, with one process).
+  [[nodiscard]] bool is_root() const {
+    return visit([](const auto& s) { return s.is_root(); });
   }
   [[nodiscard]] double particle_mass() const { return visit([](const auto& s) { return s.particle_mass(); }); }
   [[nodiscard]] double smoothing_length() const { return visit([](const auto& s) { return s.smoothing_length(); }); }

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "sluice/case/case.hpp"
+#include "sluice/core/communicator.hpp"
 
 namespace sluice::app {
 
@@ -36,6 +37,10 @@ Command add_render_command(CLI::App& app);
 Command add_analyze_command(CLI::App& app);      // analysis_commands.cpp
 Command add_convergence_command(CLI::App& app);  // analysis_commands.cpp
 Command add_validate_command(CLI::App& app);     // analysis_commands.cpp
+
+// The processes of an MPI run (`mpirun -np N sluice run ...`), set by main; null for one process.
+void set_processes(const Communicator* comm);
+const Communicator* processes();
 
 // A case named on the command line (run_command.cpp): a built-in case name, unless a file of that
 // name exists, or a case file.

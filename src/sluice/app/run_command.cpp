@@ -3,6 +3,7 @@
 #include <omp.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <csignal>
 #include <cstdio>
@@ -25,6 +26,7 @@ namespace sluice::app {
 namespace {
 
 std::atomic<bool> stop_requested{false};
+const Communicator* world = nullptr;
 
 extern "C" void on_signal(int signal) {
   stop_requested.store(true);
@@ -42,7 +44,10 @@ int run(const RunArgs& a) {
   if (!a.render_field.empty()) check_render_field(a.render_field);
   Case c;
   RunOptions options;
-  options.threads = a.threads > 0 ? a.threads : omp_get_num_procs();
+  options.comm = world;
+  const bool root = world == nullptr || world->is_root();
+  // By default the cores are shared among the processes of an MPI run (on one machine).
+  options.threads = a.threads > 0 ? a.threads : std::max(1, omp_get_num_procs() / (world ? world->size() : 1));
   if (!a.restart.empty()) {
     if (!a.case_arg.empty())
       throw BadInput("--restart continues the case stored in the checkpoint; give no case with it");
@@ -63,19 +68,24 @@ int run(const RunArgs& a) {
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
 
-  if (!a.quiet) {
+  if (!a.quiet && root) {
+    const std::string per = world != nullptr ? fmt::format(" on each of {} processes", world->size()) : "";
     if (options.restart) std::cerr << fmt::format("sluice: restarting from {}\n", a.restart);
     else
-      std::cerr << fmt::format("sluice: running '{}' into {} with {} thread{}\n", c.name, options.output_dir.string(),
-                               options.threads, options.threads == 1 ? "" : "s");
+      std::cerr << fmt::format("sluice: running '{}' into {} with {} thread{}{}\n", c.name, options.output_dir.string(),
+                               options.threads, options.threads == 1 ? "" : "s", per);
   }
   const RunResult r = run_case(c, options, std::cerr);
+  if (!root) return r.interrupted ? exit_interrupted : 0;
   std::cout << format_summary(r);
   if (!a.render_field.empty() && !r.interrupted) render_after_run(options.output_dir, a.render_field, a.quiet);
   return r.interrupted ? exit_interrupted : 0;
 }
 
 }  // namespace
+
+void set_processes(const Communicator* comm) { world = comm; }
+const Communicator* processes() { return world; }
 
 Case case_from_argument(const std::string& name_or_path) {
   std::error_code ec;
@@ -94,7 +104,7 @@ Command add_run_command(CLI::App& app) {
   cmd->add_option("-o,--output", args->output, "Output directory (default: out/<case name>)");
   cmd->add_option("--set", args->sets, "Override a case key, e.g. --set domain.dx=0.1 (repeatable)")
       ->allow_extra_args(false);
-  cmd->add_option("--threads", args->threads, "Threads to use (default: all cores)")->check(CLI::Range(1, 1024));
+  cmd->add_option("--threads", args->threads, "Threads to use (per process under mpirun; default: all cores, shared among the processes)")->check(CLI::Range(1, 1024));
   cmd->add_option("--restart", args->restart,
                   "Continue from a checkpoint file (e.g. out/dam_break/checkpoint.bin); with it, --set may only "
                   "change time.end");

@@ -99,13 +99,13 @@ struct Particles {
       for (auto& c : field) g(c);
   }
 
-  // Owned particles are [0, owned()), ghosts [owned(), size()): copies of particles that another
-  // process (or a periodic image) owns, which the pair loop reads as neighbours but which are not
-  // integrated, counted or written. There are no ghosts yet: owned() == size(). Global sums and
-  // maxima are over owned particles, combined across processes by a Reducer (core/reduce.hpp).
+  // With several processes, each holds the particles it owns; during a force evaluation also ghosts,
+  // copies of other processes' particles near its region, mixed in by the reordering and dropped
+  // before the evaluation's results are used (solver/distribution.hpp). Outside an evaluation, all
+  // of a process's particles are owned: owned() == size(). Global sums and maxima are over owned
+  // particles, combined across processes by a Reducer (core/reduce.hpp).
   [[nodiscard]] std::size_t size() const { return density.size(); }
-  [[nodiscard]] std::size_t owned() const { return size() - ghosts_; }
-  [[nodiscard]] std::size_t ghosts() const { return ghosts_; }
+  [[nodiscard]] std::size_t owned() const { return size(); }
   [[nodiscard]] bool is_fluid(std::size_t i) const { return kind[i] == Kind::fluid; }
 
   void resize(std::size_t n) {
@@ -175,7 +175,6 @@ struct Particles {
   }
 
  private:
-  std::size_t ghosts_ = 0;
 
   template <class T>
   std::vector<T>& scratch_for(std::vector<double>& doubles) {

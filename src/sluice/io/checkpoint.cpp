@@ -170,8 +170,16 @@ std::string checkpoint_bytes(const Simulation& sim, double wall_seconds) {
     put(out, c.rates.max_density);
     put(out, c.rates.min_fluid_distance);
   }
-  put<std::uint64_t>(out, sim.particle_count());
-  sim.visit([&](const auto& solver) { put_particles(out, solver.particles(), c.rates_carried); });
+  // Every process's particles, on the root (the other processes return nothing).
+  bool here = false;
+  sim.visit([&](const auto& solver) {
+    solver.with_all_particles([&](const auto& p) {
+      put<std::uint64_t>(out, p.size());
+      put_particles(out, p, c.rates_carried);
+      here = true;
+    });
+  });
+  if (!here) return {};
   const auto crc = static_cast<std::uint32_t>(
       crc32(0L, reinterpret_cast<const Bytef*>(out.data()), static_cast<uInt>(out.size())));
   put(out, crc);
@@ -269,7 +277,8 @@ Checkpoint parse_checkpoint(const std::string& bytes, const std::string& source)
 }
 
 void write_checkpoint(const std::filesystem::path& path, const Simulation& sim, double wall_seconds) {
-  write_file_atomic(path, checkpoint_bytes(sim, wall_seconds));
+  const std::string bytes = checkpoint_bytes(sim, wall_seconds);  // collective with several processes
+  if (sim.is_root()) write_file_atomic(path, bytes);
 }
 
 Checkpoint read_checkpoint(const std::filesystem::path& path) {

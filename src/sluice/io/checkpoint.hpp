@@ -31,6 +31,8 @@ struct Checkpoint {
   double wall_seconds = 0.0;  // wall time of the run up to the checkpoint
 };
 
+// With several processes: collective; every process's particles, on the root in particle-id order
+// (the other processes get "", and write_checkpoint writes on the root only).
 std::string checkpoint_bytes(const Simulation& sim, double wall_seconds);
 Checkpoint parse_checkpoint(const std::string& bytes, const std::string& source);
 void write_checkpoint(const std::filesystem::path& path, const Simulation& sim, double wall_seconds);

@@ -74,11 +74,13 @@ Frame make_frame(const Simulation& sim) {
   f.step = sim.clock().step;
   f.dx = sim.config().dx;
   f.dimension = sim.dimension();
-  f.fields = sim.visit([](const auto& solver) {
-    const auto& p = solver.particles();
-    std::vector<double> pressure(p.size());
-    for (std::size_t i = 0; i < p.size(); ++i) pressure[i] = solver.eos().pressure(p.density[i]);
-    return frame_fields(p, pressure);
+  // Every process's particles, on the root (the other processes' frames are empty).
+  sim.visit([&](const auto& solver) {
+    solver.with_all_particles([&](const auto& p) {
+      std::vector<double> pressure(p.size());
+      for (std::size_t i = 0; i < p.size(); ++i) pressure[i] = solver.eos().pressure(p.density[i]);
+      f.fields = frame_fields(p, pressure);
+    });
   });
   return f;
 }

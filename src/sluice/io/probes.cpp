@@ -252,14 +252,15 @@ std::string csv_rows_until(const std::string& csv, double t_max) {
 }
 
 ProbeRecorder::ProbeRecorder(const std::vector<Probe>& probes, int dimension, const std::filesystem::path& dir,
-                             double keep_until, bool fresh) {
+                             double keep_until, bool fresh, bool writes)
+    : writes_(writes) {
   if (probes.empty()) return;
-  create_directories_or_throw(dir);
+  if (writes_) create_directories_or_throw(dir);
   for (const Probe& probe : probes) {
     const auto path = dir / (probe.name + ".csv");
     Series s{probe, AppendFile(path, probe_header(probe, dimension) + "\n"), "", 0};
     std::error_code ec;
-    if (!fresh && std::filesystem::exists(path, ec)) s.file.resume(csv_rows_until(read_file(path), keep_until));
+    if (writes_ && !fresh && std::filesystem::exists(path, ec)) s.file.resume(csv_rows_until(read_file(path), keep_until));
     if (probe.interval > 0.0) s.next_sample = static_cast<std::int64_t>(std::floor(keep_until / probe.interval + 1e-9)) + (fresh ? 0 : 1);
     series_.push_back(std::move(s));
   }
@@ -272,13 +273,16 @@ void ProbeRecorder::sample(const Simulation& sim) {
       if (t + 1e-12 * s.probe.interval < static_cast<double>(s.next_sample) * s.probe.interval) continue;
       s.next_sample = static_cast<std::int64_t>(std::floor(t / s.probe.interval + 1e-9)) + 1;
     }
+    const std::vector<double> values = sample_probe(s.probe, sim);  // collective
+    if (!writes_) continue;
     s.rows += fmt::format("{}", t);
-    for (double v : sample_probe(s.probe, sim)) s.rows += fmt::format(",{}", v);
+    for (double v : values) s.rows += fmt::format(",{}", v);
     s.rows += "\n";
   }
 }
 
 void ProbeRecorder::flush() {
+  if (!writes_) return;
   for (Series& s : series_) {
     s.file.append(s.rows);
     s.rows.clear();
@@ -286,6 +290,7 @@ void ProbeRecorder::flush() {
 }
 
 void ProbeRecorder::sync() {
+  if (!writes_) return;
   for (Series& s : series_) s.file.sync();
 }
 

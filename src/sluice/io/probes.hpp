@@ -25,9 +25,11 @@ std::string probe_header(const Probe& probe, int dimension);
 
 class ProbeRecorder {
  public:
-  // Rows already on disk after `keep_until` are dropped (a restart continues from there).
+  // Rows already on disk after `keep_until` are dropped (a restart continues from there). With several
+  // processes, every process samples (the samples are sums over all of them) and only the root
+  // process, `writes`, keeps the rows and touches the files.
   ProbeRecorder(const std::vector<Probe>& probes, int dimension, const std::filesystem::path& dir,
-                double keep_until, bool fresh);
+                double keep_until, bool fresh, bool writes = true);
   void sample(const Simulation& sim);  // called after every step; honours each probe's interval
   void flush();                        // appends the rows sampled since the last flush to each CSV
   void sync();                         // makes the flushed rows durable
@@ -40,6 +42,7 @@ class ProbeRecorder {
     std::int64_t next_sample = 0;
   };
   std::vector<Series> series_;
+  bool writes_ = true;
 };
 
 // Keeps the header and the rows whose first column is <= t_max, whole lines only (a last line without

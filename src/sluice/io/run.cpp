@@ -57,6 +57,28 @@ double stop_time(const Case& c) {
   return c.end_time;
 }
 
+// Output files are written by the root process alone. `write` runs there; with several processes, an
+// error there is sent to every process, and each throws it, so that all stop together (the others
+// would otherwise wait for the root at the next step).
+template <class F>
+void on_root(const Communicator* comm, F&& write) {
+  if (comm == nullptr) {
+    write();
+    return;
+  }
+  std::string error;
+  if (comm->is_root()) {
+    try {
+      write();
+    } catch (const std::exception& e) {
+      error = e.what();
+      if (error.empty()) error = "an output could not be written";
+    }
+  }
+  error = comm->broadcast(error);
+  if (!error.empty()) throw IoError(error);
+}
+
 void remove_previous_outputs(const std::filesystem::path& dir, const std::string& case_name) {
   namespace fs = std::filesystem;
   std::error_code ec;
@@ -76,14 +98,16 @@ void remove_previous_outputs(const std::filesystem::path& dir, const std::string
 // are appended to their files, so a frame costs the same at any point of a run.
 class Outputs {
  public:
-  Outputs(const Simulation& sim, std::filesystem::path dir, bool fresh, double wall_before)
+  Outputs(const Simulation& sim, std::filesystem::path dir, bool fresh, double wall_before, const Communicator* comm)
       : dir_(std::move(dir)), interval_(sim.config().output_interval), wall_before_(wall_before),
-        write_npz_(sim.config().writes("npz")), write_vtk_(sim.config().writes("vtk")),
-        diagnostics_(dir_ / output_files::diagnostics, diagnostics_header),
+        write_npz_(sim.config().writes("npz")), write_vtk_(sim.config().writes("vtk")), comm_(comm),
+        root_(sim.is_root()), diagnostics_(dir_ / output_files::diagnostics, diagnostics_header),
         pvd_(dir_ / (sim.config().name + ".pvd"), pvd_header(), pvd_footer()),
-        probes_(sim.config().probes, sim.dimension(), dir_ / output_files::probes_dir, sim.time(), fresh) {
-    create_directories_or_throw(dir_ / output_files::frames_dir);
-    if (!fresh) keep_until_checkpoint(sim.time());
+        probes_(sim.config().probes, sim.dimension(), dir_ / output_files::probes_dir, sim.time(), fresh, root_) {
+    on_root(comm_, [&] {
+      create_directories_or_throw(dir_ / output_files::frames_dir);
+      if (!fresh) keep_until_checkpoint(sim.time());
+    });
   }
 
   static std::string frame_stem(std::int64_t index) {
@@ -91,15 +115,18 @@ class Outputs {
   }
 
   void write_frame(std::int64_t index, const Simulation& sim, double wall_seconds) {
-    const Frame frame = make_frame(sim);
-    const std::string stem = frame_stem(index);
-    if (write_npz_) write_file_atomic(dir_ / (stem + ".npz"), frame_to_npz(frame));
-    if (write_vtk_) {
-      write_file_atomic(dir_ / (stem + ".vtu"), frame_to_vtu(frame));
-      pvd_.append(pvd_entry(frame.time, stem + ".vtu"));
-    }
-    diagnostics_.append(diagnostics_row(sim.diagnostics(), wall_before_ + wall_seconds));
-    probes_.flush();
+    const Frame frame = make_frame(sim);  // collective: every process's particles, on the root
+    const Diagnostics diagnostics = sim.diagnostics();
+    on_root(comm_, [&] {
+      const std::string stem = frame_stem(index);
+      if (write_npz_) write_file_atomic(dir_ / (stem + ".npz"), frame_to_npz(frame));
+      if (write_vtk_) {
+        write_file_atomic(dir_ / (stem + ".vtu"), frame_to_vtu(frame));
+        pvd_.append(pvd_entry(frame.time, stem + ".vtu"));
+      }
+      diagnostics_.append(diagnostics_row(diagnostics, wall_before_ + wall_seconds));
+      probes_.flush();
+    });
     ++frames_written_;
   }
 
@@ -108,11 +135,14 @@ class Outputs {
   void write_checkpoint_file(const Simulation& sim, double wall_seconds) {
     // What a restart keeps (probe samples, diagnostics rows and .pvd entries up to the checkpoint) is
     // on disk, durably, before the checkpoint is.
-    probes_.flush();
-    probes_.sync();
-    diagnostics_.sync();
-    pvd_.sync();
-    write_checkpoint(dir_ / output_files::checkpoint, sim, wall_before_ + wall_seconds);
+    const std::string bytes = checkpoint_bytes(sim, wall_before_ + wall_seconds);  // collective
+    on_root(comm_, [&] {
+      probes_.flush();
+      probes_.sync();
+      diagnostics_.sync();
+      pvd_.sync();
+      write_file_atomic(dir_ / output_files::checkpoint, bytes);
+    });
   }
 
   [[nodiscard]] int frames_written() const { return frames_written_; }
@@ -153,6 +183,8 @@ class Outputs {
   double wall_before_;
   bool write_npz_;
   bool write_vtk_;
+  const Communicator* comm_;
+  bool root_;
   AppendFile diagnostics_;
   AppendFile pvd_;
   ProbeRecorder probes_;
@@ -244,6 +276,7 @@ struct Start {
   double wall_before = 0.0;  // wall time of the runs before a restart
 };
 
+// Every process reads the checkpoint and keeps its region's particles (Solver).
 Start start_from_checkpoint(const RunOptions& options) {
   const std::string source = options.restart->string();
   Checkpoint cp = read_checkpoint(*options.restart);
@@ -253,7 +286,7 @@ Start start_from_checkpoint(const RunOptions& options) {
         "{}: the checkpoint is at t = {} s, already at the case's end (time.end = {} s); to run on, give a later "
         "end: sluice run --restart {} --set time.end=<seconds>",
         source, cp.clock.time, cp.config.end_time, source));
-  return {std::make_unique<Simulation>(cp.config, std::move(cp.particles), cp.clock, options.threads),
+  return {std::make_unique<Simulation>(cp.config, std::move(cp.particles), cp.clock, options.threads, options.comm),
           cp.wall_seconds};
 }
 
@@ -308,8 +341,10 @@ class Run {
  public:
   Run(Start start, const RunOptions& options, std::ostream& log, steady::time_point wall_start)
       : options_(options), wall_start_(wall_start), fresh_(!options.restart), sim_(std::move(start.sim)),
-        outputs_(*sim_, options.output_dir, fresh_, start.wall_before), schedule_(sim_->config(), sim_->time()),
-        progress_(options.progress, log, sim_->time(), schedule_.end(), sim_->particle_count()) {}
+        outputs_(*sim_, options.output_dir, fresh_, start.wall_before, options.comm),
+        schedule_(sim_->config(), sim_->time()),
+        progress_(sim_->is_root() ? options.progress : RunOptions::Progress::none, log, sim_->time(), schedule_.end(),
+                  sim_->particle_count()) {}
 
   RunResult to_end() {
     if (fresh_) {
@@ -318,7 +353,7 @@ class Run {
     }
     loop_start_ = steady::now();
     while (sim_->time() < schedule_.end()) {
-      if (options_.stop_requested != nullptr && options_.stop_requested->load()) {
+      if (stop_requested()) {
         interrupted_ = true;
         break;
       }
@@ -333,6 +368,13 @@ class Run {
 
  private:
   [[nodiscard]] double wall() const { return seconds_since(wall_start_); }
+
+  // Ctrl-C (or SIGTERM), on any process: every process stops after the same step.
+  [[nodiscard]] bool stop_requested() const {
+    const bool here = options_.stop_requested != nullptr && options_.stop_requested->load();
+    if (options_.comm == nullptr) return here;
+    return options_.comm->reducer().max(here ? 1.0 : 0.0) > 0.0;
+  }
 
   // The instability guard: if the step leaves any particle non-finite, far outside the tank or at an
   // absurd density, go back to the state before it, save that and stop.
@@ -379,7 +421,7 @@ class Run {
     if (!frame_is_current_) outputs_.write_frame(schedule_.next_frame(), *sim_, wall());
     outputs_.write_checkpoint_file(*sim_, wall());
     RunResult r = result();
-    write_file_atomic(options_.output_dir / output_files::summary, format_summary(r));
+    on_root(options_.comm, [&] { write_file_atomic(options_.output_dir / output_files::summary, format_summary(r)); });
     return r;
   }
 
@@ -402,6 +444,7 @@ class Run {
     r.single_precision_pairs = c.pair_precision == Precision::single;
     r.output_dir = options_.output_dir;
     r.case_name = c.name;
+    r.processes = options_.comm != nullptr ? options_.comm->size() : 1;
     return r;
   }
 
@@ -424,8 +467,8 @@ class Run {
 RunResult run_case(const Case& requested, const RunOptions& options, std::ostream& log) {
   const auto wall_start = steady::now();
   Start start = options.restart ? start_from_checkpoint(options)
-                                : Start{std::make_unique<Simulation>(requested, options.threads)};
-  prepare_output_dir(options.output_dir, start.sim->config().name, !options.restart);
+                                : Start{std::make_unique<Simulation>(requested, options.threads, options.comm)};
+  on_root(options.comm, [&] { prepare_output_dir(options.output_dir, start.sim->config().name, !options.restart); });
   Run run(std::move(start), options, log, wall_start);
   return run.to_end();
 }
@@ -438,6 +481,9 @@ std::string format_summary(const RunResult& r) {
   s += fmt::format("  particles   {} ({} fluid, {} wall)\n", r.particles, d.fluid_particles, d.wall_particles);
   s += fmt::format("  steps       {} ({} force evaluation{} per step), {} in this run\n", d.step,
                    r.force_evaluations_per_step, r.force_evaluations_per_step == 1 ? "" : "s", r.steps_this_run);
+  if (r.processes > 1)
+    s += fmt::format("  processes   {} (MPI; the particles split among them by recursive coordinate bisection)\n",
+                     r.processes);
   s += fmt::format("  wall time   {:.2f} s for this run\n", r.wall_seconds);
   s += fmt::format("  loop time   {:.3f} s stepping (without set-up and final output)\n", r.loop_seconds);
   s += fmt::format("  speed       {:.2f} M particle-steps/s, {:.2f} M particle-evaluations/s\n",

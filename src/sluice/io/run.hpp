@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "sluice/case/case.hpp"
+#include "sluice/core/communicator.hpp"
 #include "sluice/simulation.hpp"
 
 namespace sluice {
@@ -26,6 +27,9 @@ struct RunOptions {
   // Progress reporting: "tty" rewrites one line, "lines" prints periodic lines, "none" is quiet.
   enum class Progress { tty, lines, none } progress = Progress::lines;
   const std::atomic<bool>* stop_requested = nullptr;  // set by Ctrl-C: stop after the current step
+  // The processes of an MPI run (null for one process): the particles are spread over them, the root
+  // writes every output file and the progress, and an output error on the root stops every process.
+  const Communicator* comm = nullptr;
 };
 
 // The run went unstable (non-finite values, particles far outside the tank, absurd densities). The
@@ -50,6 +54,7 @@ struct RunResult {
   bool single_precision_pairs = false;  // domain.pair_precision = "single"
   std::filesystem::path output_dir;
   std::string case_name;
+  int processes = 1;
 };
 
 // Files a run writes into its output directory.

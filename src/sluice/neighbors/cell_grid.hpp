@@ -93,6 +93,19 @@ class CellGrid {
     cell_of_.swap(sorted_cell_);
   }
 
+  // After the caller removed the particles with keep[i] == 0 (keeping the others' order): the cells
+  // of the ones kept, as they were binned (cell_start() and cell_of() describe the smaller set).
+  void keep(const std::vector<std::uint8_t>& keep) {
+    const std::size_t n = cell_of_.size(), cells = cell_count();
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      if (keep[i]) cell_of_[k++] = cell_of_[i];
+    cell_of_.resize(k);
+    std::fill(cell_start_.begin(), cell_start_.end(), 0u);
+    for (std::size_t i = 0; i < k; ++i) ++cell_start_[cell_of_[i] + 1];
+    for (std::size_t c = 0; c < cells; ++c) cell_start_[c + 1] += cell_start_[c];
+  }
+
   [[nodiscard]] const std::vector<std::uint32_t>& order() const { return order_; }
   [[nodiscard]] const std::vector<std::uint32_t>& cell_of() const { return cell_of_; }
   [[nodiscard]] const std::vector<std::uint32_t>& cell_start() const { return cell_start_; }

@@ -23,6 +23,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "sluice/core/parallel.hpp"
@@ -45,9 +46,11 @@ class ParticleShifting {
  public:
   // Computes the shift velocity s_i of every fluid particle (delta r_i = dt s_i) from the current
   // positions and velocities. `fluid` is 1 for fluid, 0 for wall particles; `grid` is binned on the
-  // current particle order, which must not change before apply().
+  // current particle order, which must not change before apply(). With several processes,
+  // `refresh_divergence` gives the ghosts their owners' div r before the surface is found.
   void compute(const Particles<Dim>& p, const CellGrid<Dim>& grid, const AnyKernel<Dim>& kernel,
-               const ShiftingSums& sums, const ShiftingSettings& settings, const double* fluid, int threads) {
+               const ShiftingSums& sums, const ShiftingSettings& settings, const double* fluid, int threads,
+               const std::function<void(std::vector<double>&)>& refresh_divergence = {}) {
     const std::size_t n = p.size();
     std::array<double*, 2 * Dim + 1> out{};
     for (std::size_t k = 0; k < sums_.size(); ++k) {
@@ -55,6 +58,7 @@ class ParticleShifting {
       out[k] = sums_[k].data();
     }
     shifting_sums(p, grid, kernel, sums, fluid, out, threads);
+    if (refresh_divergence) refresh_divergence(sums_[2 * Dim]);
     classify(p, grid, sums.h, settings.surface_threshold, fluid, threads);
     const double scale = -settings.coefficient * sums.h;
     parallel::for_chunks(static_cast<long>(n), threads, [&](long begin, long end) {

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <string>
 #include <variant>
 #include <vector>
@@ -14,6 +15,7 @@
 #include "sluice/core/reduce.hpp"
 #include "sluice/geometry/solid.hpp"
 #include "sluice/neighbors/cell_grid.hpp"
+#include "sluice/solver/distribution.hpp"
 #include "sluice/physics/kernel.hpp"
 #include "sluice/physics/rates.hpp"
 #include "sluice/physics/shifting.hpp"
@@ -76,15 +78,39 @@ class Solver {
  public:
   using KernelVariant = AnyKernel<Dim>;
 
-  // Builds the particles of a case (setup) and starts at t = 0.
-  Solver(const Case& c, int threads);
-  // Continues from a saved state (restart).
-  Solver(const Case& c, Particles<Dim> particles, Clock clock, int threads);
+  // Builds the particles of a case (setup) and starts at t = 0. With a communicator of several
+  // processes, every process builds the same particles and keeps those in its region
+  // (solver/distribution.hpp); without one (or with one process), this process holds them all.
+  Solver(const Case& c, int threads, const Communicator* comm = nullptr);
+  // Continues from a saved state (restart): all the particles, on any number of processes.
+  Solver(const Case& c, Particles<Dim> particles, Clock clock, int threads, const Communicator* comm = nullptr);
 
   // Advances one time step; a step that would pass time_limit ends exactly on it.
   void step(double time_limit);
 
+  // This process's particles (all of them with one process).
   [[nodiscard]] const Particles<Dim>& particles() const { return particles_; }
+  // The particles of every process, on the root process in particle-id order: f(particles) there, and
+  // nothing elsewhere. With one process, f(particles()). Collective.
+  template <class F>
+  void with_all_particles(F&& f) const {
+    if (!distribution_) {
+      f(particles_);
+      return;
+    }
+    using namespace field_role;
+    const Particles<Dim> all = distribution_->gather(particles_, state | checkpoint | frame | carried);
+    if (distribution_->comm().is_root()) f(all);
+  }
+  // Particles on all processes.
+  [[nodiscard]] std::size_t particle_count() const {
+    return distribution_ ? static_cast<std::size_t>(reducer_->sum(static_cast<std::int64_t>(particles_.size())))
+                         : particles_.size();
+  }
+  // The process that writes the outputs (always, with one process).
+  [[nodiscard]] bool is_root() const { return !distribution_ || distribution_->comm().is_root(); }
+  // The domain decomposition, with several processes (else null).
+  [[nodiscard]] const Distribution<Dim>* distribution() const { return distribution_.get(); }
   [[nodiscard]] const Clock& clock() const { return clock_; }
   [[nodiscard]] const Case& config() const { return case_; }
   [[nodiscard]] const Solids<Dim>& solids() const { return solids_; }
@@ -133,6 +159,10 @@ class Solver {
 
  private:
   void init(const Case& c);
+  // With several processes: the decomposition, and this process's share of the full set of particles.
+  void distribute(const Communicator* comm);
+  // Drops the ghosts of the last evaluation (several processes), with their cells in the grid.
+  void strip_ghosts();
   // Rebuilds the neighbour grid (reordering the particles by cell, and with them the fields of the
   // roles `also_moved`: field_role::step_start, rates_start during a step), applies the Shepard filter
   // when due and any pending density repairs, and computes the rates; at the step's last evaluation
@@ -173,6 +203,7 @@ class Solver {
   std::int64_t evaluations_ = 0;
   int threads_ = 1;
   const Reducer* reducer_ = &serial_reducer();
+  std::unique_ptr<Distribution<Dim>> distribution_;
   std::size_t removed_near_coincident_ = 0;
 };
 

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -19,21 +20,44 @@
 namespace sluice {
 
 template <int Dim>
-Solver<Dim>::Solver(const Case& c, int threads) : threads_(std::max(1, threads)) {
+Solver<Dim>::Solver(const Case& c, int threads, const Communicator* comm) : threads_(std::max(1, threads)) {
   Setup<Dim> s = build_setup<Dim>(c);
   particles_ = std::move(s.particles);
   particles_.resize(particles_.size());  // size the rate and step-start fields
   solids_ = std::move(s.solids);
   removed_near_coincident_ = s.removed_near_coincident;
   init(c);
+  distribute(comm);
 }
 
 template <int Dim>
-Solver<Dim>::Solver(const Case& c, Particles<Dim> particles, Clock clock, int threads)
+Solver<Dim>::Solver(const Case& c, Particles<Dim> particles, Clock clock, int threads, const Communicator* comm)
     : particles_(std::move(particles)), clock_(clock), threads_(std::max(1, threads)) {
   // The wall geometry is rebuilt from the case; the particles come from the saved state.
   solids_ = build_setup<Dim>(c).solids;
   init(c);
+  distribute(comm);
+}
+
+template <int Dim>
+void Solver<Dim>::distribute(const Communicator* comm) {
+  if (comm == nullptr || comm->size() < 2) return;
+  // A process must see the particles within the kernel support of its own; mDBC's wall particles
+  // also read the water around their ghost nodes, mirrored up to the wall's thickness into the water.
+  double halo = 2.0 * settings_.h;
+  if (case_.wall_boundary == WallBoundary::mdbc) halo += 2.0 * wall_layers(case_) * case_.dx;
+  distribution_ = std::make_unique<Distribution<Dim>>(*comm, halo * (1.0 + 1e-9));
+  reducer_ = &comm->reducer();
+  distribution_->distribute(particles_);
+}
+
+template <int Dim>
+void Solver<Dim>::strip_ghosts() {
+  if (!distribution_ || !distribution_->has_ghosts()) return;
+  std::vector<std::uint8_t> keep = distribution_->ghost_mask();
+  for (auto& k : keep) k = !k;
+  distribution_->strip_ghosts(particles_);
+  if (grid_binned_) grid_.keep(keep);
 }
 
 template <int Dim>
@@ -83,25 +107,50 @@ void Solver<Dim>::init(const Case& c) {
 template <int Dim>
 RateSummary Solver<Dim>::evaluate(bool shepard_due, unsigned also_moved, bool last) {
   ++evaluations_;
+  Distribution<Dim>* const dist = distribution_.get();
+  if (dist) {
+    strip_ghosts();
+    dist->before_evaluation(particles_, also_moved);
+  }
   grid_.bin(particles_.position, threads_);
   particles_.reorder(grid_.order(), scratch_, also_moved, threads_);
+  if (dist) dist->reordered(grid_.order());
   grid_binned_ = true;
-  const bool repair_due = std::any_of(particles_.needs_density_repair.begin(), particles_.needs_density_repair.end(),
-                                      [](std::uint8_t f) { return f != 0; });
+  bool repair_due = std::any_of(particles_.needs_density_repair.begin(), particles_.needs_density_repair.end(),
+                                [](std::uint8_t f) { return f != 0; });
+  if (dist) repair_due = reducer_->sum(static_cast<std::int64_t>(repair_due)) > 0;
   if (shepard_due || repair_due) {
     shepard_filter(particles_, grid_, kernel_, settings_.mass, shepard_due ? nullptr : &particles_.needs_density_repair,
                    scratch_, threads_);
     std::fill(particles_.needs_density_repair.begin(), particles_.needs_density_repair.end(), 0);
+    if (dist) dist->refresh(particles_, {"density"});
   }
   std::visit([&](const auto& walls, const auto& kernel) {
     walls.before_rates(particles_, grid_, kernel, settings_.eos, settings_.gravity, threads_);
   }, walls_, kernel_);
+  if (dist && !std::holds_alternative<DynamicWalls>(walls_)) dist->refresh(particles_, {"density", "velocity"});
   terms_.compute(particles_, settings_.eos, threads_, settings_.artificial_pressure,
                  case_.pair_precision == Precision::single, pair_origin_);
-  const RateSummary summary = compute_rates(particles_, grid_, kernel_, walls_, settings_, terms_, threads_);
+  RateSummary summary = compute_rates(particles_, grid_, kernel_, walls_, settings_, terms_, threads_);
+  if (dist) {
+    // A ghost's acceleration lacks the pairs beyond this process's halo: the largest is the owned
+    // fluid particles' (the other maxima and the minimum distance are over real pairs and densities).
+    const std::vector<std::uint8_t>& ghost = dist->ghost_mask();
+    double max_a2 = 0.0;
+    for (std::size_t i = 0; i < particles_.size(); ++i) {
+      if (ghost[i] || !particles_.is_fluid(i)) continue;
+      double a2 = 0.0;
+      for (int d = 0; d < Dim; ++d) a2 += particles_.acceleration[d][i] * particles_.acceleration[d][i];
+      max_a2 = std::max(max_a2, a2);
+    }
+    summary.max_acceleration = std::sqrt(max_a2);
+  }
   std::visit([&](const auto& walls) { walls.after_rates(particles_); }, walls_);
-  if (last && shifting_.coefficient > 0.0)
-    shift_.compute(particles_, grid_, kernel_, shifting_sums_, shifting_, terms_.fluid_mask.data(), threads_);
+  if (last && shifting_.coefficient > 0.0) {
+    std::function<void(std::vector<double>&)> refresh;
+    if (dist) refresh = [dist](std::vector<double>& divergence) { dist->refresh(divergence); };
+    shift_.compute(particles_, grid_, kernel_, shifting_sums_, shifting_, terms_.fluid_mask.data(), threads_, refresh);
+  }
   return summary;
 }
 
@@ -196,6 +245,7 @@ template <int Dim>
 void Solver<Dim>::finish_step(const StepSize& size, double time_limit) {
   const double dt = size.dt;
   if (shifting_.coefficient > 0.0) shift_.apply(particles_, dt, threads_);
+  strip_ghosts();
   const auto leaked = static_cast<std::int64_t>(put_back_leaked(particles_, solids_, case_.dx, threads_));
   clock_.leaks += leaked;
   // A put-back particle moved (and its density is repaired at the next evaluation): the carried
@@ -317,6 +367,7 @@ Health Solver<Dim>::check_health(std::size_t max_reported) const {
 template <int Dim>
 void Solver<Dim>::restore_saved_state() {
   if (!has_saved_state_) return;
+  strip_ghosts();
   Particles<Dim>& p = particles_;
   p.position = p.position_start;
   p.velocity = p.velocity_start;
