@@ -3,6 +3,7 @@
 #include <csignal>
 #include <cstdlib>
 #include <iostream>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -10,9 +11,15 @@
 
 #include <unistd.h>
 
+#include <fmt/format.h>
+
 #include "sluice/app/commands.hpp"
 #include "sluice/case/case_error.hpp"
 #include "sluice/case/suggest.hpp"
+#include "sluice/io/atomic_file.hpp"
+#include "sluice/io/npz.hpp"
+#include "sluice/io/run.hpp"
+#include "sluice/mpi/mpi_communicator.hpp"
 #include "sluice/physics/simd_target.hpp"
 
 using namespace sluice;
@@ -61,20 +68,37 @@ std::optional<int> refuse_missing_command(int argc, char** argv, const std::vect
   return std::nullopt;
 }
 
+// An error every process of an MPI run meets alike: bad input (every process reads the same case and
+// command line), a damaged checkpoint (every process reads it), an output error (the root's, sent to
+// all: io/run.cpp) and an unstable run (the guard's count is over all processes).
+bool every_process_fails_alike(const std::exception& e) {
+  return dynamic_cast<const CaseError*>(&e) != nullptr || dynamic_cast<const app::BadInput*>(&e) != nullptr ||
+         dynamic_cast<const IoError*>(&e) != nullptr || dynamic_cast<const FormatError*>(&e) != nullptr ||
+         dynamic_cast<const InstabilityError*>(&e) != nullptr;
+}
+
+// Prints an error as "sluice: error: ..." and gives its exit status. In an MPI run, an error every
+// process meets is printed once, by the root; any other stops every process at once (the others may be
+// waiting for this one), with the message of the process that failed.
+int report(const std::exception& e, int status) {
+  const Communicator* world = app::processes();
+  if (world != nullptr && !every_process_fails_alike(e))
+    world->abort(fmt::format("process {} of {}: {}", world->rank(), world->size(), e.what()), status);
+  if (world == nullptr || world->is_root()) std::cerr << "sluice: error: " << e.what() << "\n";
+  return status;
+}
+
 // Runs the command given, with every error as "sluice: error: ..." and its exit status.
 int run_parsed(const std::vector<app::Command>& commands) {
   try {
     for (const auto& c : commands)
       if (c.cli->parsed()) return c.run();
   } catch (const CaseError& e) {
-    std::cerr << "sluice: error: " << e.what() << "\n";
-    return app::exit_bad_input;
+    return report(e, app::exit_bad_input);
   } catch (const app::BadInput& e) {
-    std::cerr << "sluice: error: " << e.what() << "\n";
-    return app::exit_bad_input;
+    return report(e, app::exit_bad_input);
   } catch (const std::exception& e) {  // IoError, FormatError, a failed run
-    std::cerr << "sluice: error: " << e.what() << "\n";
-    return app::exit_failure;
+    return report(e, app::exit_failure);
   }
   return 0;
 }
@@ -86,6 +110,16 @@ int main(int argc, char** argv) {
   // Past a file-size limit (ulimit -f) a write then fails with EFBIG and is reported like a full disk,
   // instead of the process being killed by SIGXFSZ.
   std::signal(SIGXFSZ, SIG_IGN);
+  // Under mpirun, one of several processes (sluice run spreads the particles over them); MPI is not
+  // touched otherwise.
+  std::unique_ptr<MpiSession> mpi;
+  try {
+    mpi = start_mpi_if_launched(argc, argv);
+  } catch (const std::exception& e) {
+    std::cerr << "sluice: error: " << e.what() << "\n";
+    return app::exit_failure;
+  }
+  app::set_processes(mpi ? mpi->world() : nullptr);
   CLI::App cli{"sluice: a fast, validated SPH solver for free-surface water flows (dam breaks, sloshing, waves)."};
   cli.set_version_flag("--version", [] {
     std::string targets;
@@ -115,7 +149,8 @@ int main(int argc, char** argv) {
     std::string help = "sluice --help";
     for (const auto& c : commands)
       if (c.cli->get_name() == argv[1]) help = "sluice " + c.cli->get_name() + " --help";
-    std::cerr << "sluice: error: " << e.what() << "\nRun `" << help << "` for the options.\n";
+    if (mpi == nullptr || mpi->rank() == 0)
+      std::cerr << "sluice: error: " << e.what() << "\nRun `" << help << "` for the options.\n";
     return app::exit_bad_input;
   }
   return run_parsed(commands);

@@ -347,6 +347,12 @@ class Run {
                   sim_->particle_count()) {}
 
   RunResult to_end() {
+    sim_->visit([&](const auto& solver) {
+      if (const auto* d = solver.distribution()) {
+        bytes_before_ = d->bytes_sent();
+        exchange_seconds_before_ = d->exchange_seconds();
+      }
+    });
     if (fresh_) {
       outputs_.sample_probes(*sim_);
       outputs_.write_frame(0, *sim_, 0.0);
@@ -445,6 +451,12 @@ class Run {
     r.output_dir = options_.output_dir;
     r.case_name = c.name;
     r.processes = options_.comm != nullptr ? options_.comm->size() : 1;
+    sim_->visit([&](const auto& solver) {
+      if (const auto* d = solver.distribution()) {
+        r.bytes_exchanged = options_.comm->reducer().sum(d->bytes_sent() - bytes_before_);
+        r.exchange_seconds = options_.comm->reducer().max(d->exchange_seconds() - exchange_seconds_before_);
+      }
+    });
     return r;
   }
 
@@ -457,6 +469,7 @@ class Run {
   Schedule schedule_;
   Progress progress_;
   std::int64_t steps_ = 0;
+  double bytes_before_ = 0.0, exchange_seconds_before_ = 0.0;  // the set-up's exchanges
   bool interrupted_ = false;
   // A restart's state at the checkpoint time is already on disk (or, at a non-frame time, needs no frame).
   bool frame_is_current_ = true;
@@ -481,9 +494,14 @@ std::string format_summary(const RunResult& r) {
   s += fmt::format("  particles   {} ({} fluid, {} wall)\n", r.particles, d.fluid_particles, d.wall_particles);
   s += fmt::format("  steps       {} ({} force evaluation{} per step), {} in this run\n", d.step,
                    r.force_evaluations_per_step, r.force_evaluations_per_step == 1 ? "" : "s", r.steps_this_run);
-  if (r.processes > 1)
+  if (r.processes > 1) {
     s += fmt::format("  processes   {} (MPI; the particles split among them by recursive coordinate bisection)\n",
                      r.processes);
+    const double steps = static_cast<double>(std::max<std::int64_t>(r.steps_this_run, 1));
+    s += fmt::format("  exchanges   {:.3f} MB per step between processes, {:.2f} ms per step ({:.1f} % of the loop)\n",
+                     r.bytes_exchanged / steps * 1e-6, r.exchange_seconds / steps * 1e3,
+                     r.loop_seconds > 0 ? 100.0 * r.exchange_seconds / r.loop_seconds : 0.0);
+  }
   s += fmt::format("  wall time   {:.2f} s for this run\n", r.wall_seconds);
   s += fmt::format("  loop time   {:.3f} s stepping (without set-up and final output)\n", r.loop_seconds);
   s += fmt::format("  speed       {:.2f} M particle-steps/s, {:.2f} M particle-evaluations/s\n",

@@ -55,6 +55,10 @@ struct RunResult {
   std::filesystem::path output_dir;
   std::string case_name;
   int processes = 1;
+  // With several processes: bytes sent between them in this run (all processes), and the longest time
+  // one spent in the particle exchanges (waiting for the others included).
+  double bytes_exchanged = 0.0;
+  double exchange_seconds = 0.0;
 };
 
 // Files a run writes into its output directory.

@@ -23,6 +23,7 @@
 #pragma once
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -56,6 +57,10 @@ class Distribution {
   [[nodiscard]] const std::vector<std::uint8_t>& ghost_mask() const { return ghost_; }
   [[nodiscard]] std::int64_t repartitions() const { return repartitions_; }
   [[nodiscard]] std::int64_t migrated() const { return migrated_; }
+  // Communication of the particle exchanges so far (migration, ghosts, refreshes): bytes this process
+  // sent to others, and seconds it spent in the exchanges (waiting for the others included).
+  [[nodiscard]] double bytes_sent() const { return bytes_sent_; }
+  [[nodiscard]] double exchange_seconds() const { return exchange_seconds_; }
 
   // Cuts space for the full set of particles that every process holds alike (a new case, or a
   // checkpoint), and keeps this process's share. Particle ids are kept.
@@ -105,7 +110,7 @@ class Distribution {
       Particles<Dim>::fields(p, [&](const FieldSpec& info, auto& field) {
         if (named(info, names)) Particles<Dim>::components(field, [&](auto& c) { put(out[r], c, send_[r]); });
       });
-    const std::vector<std::string> in = comm_.exchange(out);
+    const std::vector<std::string> in = exchange(out);
     for (std::size_t r = 0; r < in.size(); ++r) {
       std::size_t at = 0;
       Particles<Dim>::fields(p, [&](const FieldSpec& info, auto& field) {
@@ -117,7 +122,7 @@ class Distribution {
   void refresh(std::vector<double>& values) {
     std::vector<std::string> out(static_cast<std::size_t>(comm_.size()));
     for (std::size_t r = 0; r < out.size(); ++r) put(out[r], values, send_[r]);
-    const std::vector<std::string> in = comm_.exchange(out);
+    const std::vector<std::string> in = exchange(out);
     for (std::size_t r = 0; r < in.size(); ++r) {
       std::size_t at = 0;
       get(in[r], at, values, slots_[r]);
@@ -186,6 +191,15 @@ class Distribution {
   }
 
  private:
+  std::vector<std::string> exchange(const std::vector<std::string>& out) {
+    const auto start = std::chrono::steady_clock::now();
+    for (std::size_t r = 0; r < out.size(); ++r)
+      if (r != static_cast<std::size_t>(comm_.rank())) bytes_sent_ += static_cast<double>(out[r].size());
+    std::vector<std::string> in = comm_.exchange(out);
+    exchange_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return in;
+  }
+
   static bool named(const FieldSpec& info, std::initializer_list<std::string_view> names) {
     return std::find(names.begin(), names.end(), info.name) != names.end();
   }
@@ -221,7 +235,7 @@ class Distribution {
         if (info.has(roles)) Particles<Dim>::components(field, [&](auto& c) { put(out[r], c, leaving[r]); });
       });
     }
-    const std::vector<std::string> in = comm_.exchange(out);
+    const std::vector<std::string> in = exchange(out);
     std::size_t arriving = 0;
     for (std::size_t r = 0; r < ranks; ++r)
       if (r != static_cast<std::size_t>(comm_.rank())) arriving += get_count(in[r]);
@@ -256,7 +270,7 @@ class Distribution {
         if (info.has(field_role::halo)) Particles<Dim>::components(field, [&](auto& c) { put(out[r], c, send_[r]); });
       });
     }
-    const std::vector<std::string> in = comm_.exchange(out);
+    const std::vector<std::string> in = exchange(out);
     std::size_t arriving = 0;
     for (std::size_t r = 0; r < ranks; ++r)
       if (r != me) arriving += get_count(in[r]);
@@ -349,6 +363,8 @@ class Distribution {
   std::vector<std::uint32_t> inverse_;
   std::int64_t repartitions_ = 0;
   std::int64_t migrated_ = 0;
+  double bytes_sent_ = 0.0;
+  double exchange_seconds_ = 0.0;
 };
 
 }  // namespace sluice

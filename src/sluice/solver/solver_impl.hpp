@@ -12,6 +12,7 @@
 
 #include <fmt/format.h>
 
+#include "sluice/case/case_error.hpp"
 #include "sluice/core/parallel.hpp"
 #include "sluice/geometry/leaks.hpp"
 #include "sluice/geometry/setup.hpp"
@@ -49,6 +50,12 @@ void Solver<Dim>::distribute(const Communicator* comm) {
   distribution_ = std::make_unique<Distribution<Dim>>(*comm, halo * (1.0 + 1e-9));
   reducer_ = &comm->reducer();
   distribution_->distribute(particles_);
+  // A process without particles has nothing to do: the case is too small for this many processes.
+  if (reducer_->min(static_cast<double>(particles_.size())) == 0.0)
+    throw CaseError(fmt::format(
+        "{} processes for {} particles: the domain decomposition leaves a process without any; run on fewer "
+        "processes (mpirun -np N) or with a finer domain.dx",
+        comm->size(), particle_count()));
 }
 
 template <int Dim>
