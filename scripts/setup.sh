@@ -10,6 +10,8 @@ packages=(
   libpng-dev libgif-dev libfreetype-dev fonts-dejavu-core
   libassimp-dev libcgal-dev
   python3 python3-numpy python3-meshio python3-pil
+  # Several processes: MPI (Open MPI, with mpirun) and Zoltan's domain decomposition.
+  libopenmpi-dev openmpi-bin libtrilinos-zoltan-dev
 )
 # `make fuzz` (scripts/setup.sh fuzz) also needs clang with its libFuzzer and sanitizer runtimes, and
 # LLVM's OpenMP for the solver library built with clang.
