@@ -2,7 +2,7 @@
 // on one: after a number of steps, every particle where the serial run has it, to round-off. The
 // distributed run adds the same pair terms in another order (the particles of a cell are ordered
 // differently when ghosts are mixed in), so the two agree to round-off, not bit for bit; the bound
-// is far below anything physical (1e-9 m against dx = 0.05 m) and far above what a missing pair, a
+// is far below anything physical (1e-9 m against dx = 4 mm) and far above what a missing pair, a
 // stale ghost or a lost particle gives (1e-4 m and more after a few steps).
 #include <gtest/gtest.h>
 
@@ -29,6 +29,7 @@ struct Agreement {
   double max_density = 0.0;   // kg/m^3
   bool same_ids = false;
   double time = 0.0;
+  double time_difference = 0.0;  // s: the steps' sizes follow the largest acceleration, to round-off
 };
 
 // Runs `c` for `steps` steps on all processes and on the root alone; compares on the root.
@@ -41,7 +42,7 @@ Agreement compare(const Case& c, int steps) {
   distributed.solver<Dim>().with_all_particles([&](const Particles<Dim>& all) {
     Simulation serial(c, 1);
     for (int s = 0; s < steps; ++s) serial.step();
-    EXPECT_EQ(serial.time(), distributed.time());
+    a.time_difference = std::abs(serial.time() - distributed.time());
     const Particles<Dim>& one = serial.particles<Dim>();
     a.particles = all.size();
     if (all.size() != one.size()) return;
@@ -61,22 +62,28 @@ Agreement compare(const Case& c, int steps) {
   return a;
 }
 
-Case dam_break(const std::vector<std::string>& sets) {
-  Case c = *load_builtin_case("dam_break");
-  apply_override(c, "domain.dx=0.05");
+// A water column collapsing (Martin & Moyce's, a/dx = 14): its surge runs through the processes'
+// boxes, so particles migrate and the boxes are cut anew as the water moves.
+Case collapse(const std::vector<std::string>& sets) {
+  Case c = *load_builtin_case("martin_moyce");
+  apply_override(c, "domain.dx=0.004");
   for (const auto& s : sets) apply_override(c, s);
   return c;
 }
 
-void expect_agreement(const Agreement& a, std::size_t particles, const std::string& what) {
+// `scale` 1 for double-precision pairs: positions within 1e-9 m, velocities 1e-7 m/s, densities 1e-6
+// kg/m^3.
+void expect_agreement(const Agreement& a, std::size_t particles, const std::string& what, double scale = 1.0) {
   if (world->rank() != 0) return;
   EXPECT_EQ(a.particles, particles) << what;
   EXPECT_TRUE(a.same_ids) << what << ": the gathered particles are not in id order 0..N-1";
-  EXPECT_LT(a.max_position, 1e-9) << what;
-  EXPECT_LT(a.max_velocity, 1e-7) << what;
-  EXPECT_LT(a.max_density, 1e-6) << what;
-  std::printf("[ agreement ] %s, %d processes, t = %.4f s: max |dx| %.3g m, |dv| %.3g m/s, |drho| %.3g kg/m^3\n",
-              what.c_str(), world->size(), a.time, a.max_position, a.max_velocity, a.max_density);
+  EXPECT_LT(a.max_position, 1e-9 * scale) << what;
+  EXPECT_LT(a.max_velocity, 1e-7 * scale) << what;
+  EXPECT_LT(a.max_density, 1e-6 * scale) << what;
+  EXPECT_LT(a.time_difference, 1e-12 * scale * scale) << what;
+  std::printf("[ agreement ] %s, %d processes, t = %.4f s (%.2g s apart): max |dx| %.3g m, |dv| %.3g m/s, "
+              "|drho| %.3g kg/m^3\n", what.c_str(), world->size(), a.time, a.time_difference, a.max_position,
+              a.max_velocity, a.max_density);
 }
 
 }  // namespace
@@ -88,26 +95,32 @@ void expect_agreement(const Agreement& a, std::size_t particles, const std::stri
 struct Variant {
   const char* name;
   std::vector<std::string> sets;
+  int steps = 1500;
+  double scale = 1.0;  // of the tolerances
 };
 
-class DistributedDamBreak : public ::testing::TestWithParam<Variant> {};
+class DistributedCollapse : public ::testing::TestWithParam<Variant> {};
 
-TEST_P(DistributedDamBreak, GivesTheSerialParticlesToRoundOff) {
+TEST_P(DistributedCollapse, GivesTheSerialParticlesToRoundOff) {
   const Variant& v = GetParam();
-  const Case c = dam_break(v.sets);
+  const Case c = collapse(v.sets);
   const std::size_t n = Simulation(c, 1).particle_count();
-  expect_agreement(compare<2>(c, 120), n, v.name);
+  expect_agreement(compare<2>(c, v.steps), n, v.name, v.scale);
 }
 
 INSTANTIATE_TEST_SUITE_P(
-    Variants, DistributedDamBreak,
+    Variants, DistributedCollapse,
     ::testing::Values(Variant{"predictor_corrector_dynamic", {}},
                       Variant{"leapfrog_adami_shepard", {"time.integrator=leapfrog", "physics.wall_boundary=adami",
                                                          "physics.shepard_every=7"}},
                       Variant{"euler_mdbc_no_slip", {"time.integrator=euler", "time.cfl=0.1", "physics.wall_boundary=mdbc",
                                                      "physics.wall_slip=no_slip"}},
-                      Variant{"leapfrog_shifting_single", {"time.integrator=leapfrog", "physics.shifting=2.0",
-                                                           "domain.pair_precision=single"}}),
+                      // The shift's surface test is a threshold on div r: once round-off tips one
+                      // particle's side, the runs part faster (on 3 processes 7e-18 m at step 401,
+                      // 1e-10 m at step 501, 4e-9 m at step 533); 300 steps keep to the round-off.
+                      Variant{"leapfrog_shifting", {"time.integrator=leapfrog", "physics.shifting=2.0"}, 300},
+                      // Single-precision pairs: float round-off in the sums, 1e-7 of them.
+                      Variant{"single_precision", {"domain.pair_precision=single"}, 1500, 100.0}),
     [](const ::testing::TestParamInfo<Variant>& info) { return std::string(info.param.name); });
 
 TEST(Distributed3D, DamBreakFromACornerGivesTheSerialParticles) {
@@ -117,15 +130,21 @@ TEST(Distributed3D, DamBreakFromACornerGivesTheSerialParticles) {
   expect_agreement(compare<3>(c, 40), n, "3D dam break");
 }
 
-// The particles are spread: each process owns some, and the water's motion moves some across.
-TEST(Distributed, EveryProcessOwnsParticlesAndTheyMigrate) {
-  Simulation sim(dam_break({}), 1, world);
+// The particles are spread: each process owns some; the surge moves some across, and the boxes are
+// cut anew when one process holds 10 % more than the mean.
+TEST(Distributed, EveryProcessOwnsParticlesTheyMigrateAndTheBoxesFollowTheWater) {
+  Simulation sim(collapse({}), 1, world);
   const auto& solver = sim.solver<2>();
   EXPECT_GT(solver.particles().size(), 0u);
   EXPECT_LT(solver.particles().size(), sim.particle_count());
-  for (int s = 0; s < 300; ++s) sim.step();
+  for (int s = 0; s < 3000; ++s) sim.step();
   const double moved = world->reducer().sum(static_cast<double>(solver.distribution()->migrated()));
   EXPECT_GT(moved, 0.0);
+  EXPECT_GT(solver.distribution()->repartitions(), 0);
+  const double owned = static_cast<double>(solver.particles().size());
+  const double mean = static_cast<double>(sim.particle_count()) / world->size();
+  // Between two new cuts the imbalance may grow past the limit by what one evaluation moves.
+  EXPECT_LT(world->reducer().max(owned), 1.2 * mean);
   const Diagnostics d = sim.diagnostics();
   EXPECT_EQ(d.fluid_particles + d.wall_particles, sim.particle_count());
 }
