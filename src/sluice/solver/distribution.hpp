@@ -46,8 +46,10 @@ class Distribution {
  public:
   // `halo`: how far from its box a process must see other processes' particles (the kernel support,
   // more where a stage reads further: mDBC's wall particles read the water around their ghost nodes).
-  Distribution(const Communicator& comm, double halo, double imbalance_limit = 1.1)
-      : comm_(comm), rank_(comm.rank()), halo_(halo), imbalance_limit_(imbalance_limit) {}
+  // `skin`: how much further ghosts are taken, so that they can serve a second evaluation of the
+  // same step (before_evaluation).
+  Distribution(const Communicator& comm, double halo, double skin, double imbalance_limit = 1.1)
+      : comm_(comm), rank_(comm.rank()), halo_(halo), skin_(skin), imbalance_limit_(imbalance_limit) {}
 
   [[nodiscard]] const Communicator& comm() const { return comm_; }
   [[nodiscard]] const std::vector<DomainBox>& boxes() const { return boxes_; }
@@ -57,6 +59,8 @@ class Distribution {
   [[nodiscard]] const std::vector<std::uint8_t>& ghost_mask() const { return ghost_; }
   [[nodiscard]] std::int64_t repartitions() const { return repartitions_; }
   [[nodiscard]] std::int64_t migrated() const { return migrated_; }
+  // Evaluations that kept the ghosts of the one before (refreshing their fields).
+  [[nodiscard]] std::int64_t ghosts_reused() const { return reused_; }
   // Communication of the particle exchanges so far (migration, ghosts, refreshes): bytes this process
   // sent to others, and seconds it spent in the exchanges (waiting for the others included).
   [[nodiscard]] double bytes_sent() const { return bytes_sent_; }
@@ -76,7 +80,18 @@ class Distribution {
 
   // Steps 1-4 above. `also` are the roles of the fields that move with the particles besides the
   // state (field_role::step_start, rates_start during a step).
-  void before_evaluation(Particles<Dim>& p, unsigned also) {
+  //
+  // Within a step whose first evaluation built the ghosts (the predictor-corrector's second), the
+  // ghosts are kept and only their fields refreshed, if no owned particle has moved more than half
+  // the skin since (`moved`: the largest displacement on this process; the ghosts were taken from
+  // `skin` beyond the halo): then a particle that came within the halo of another process's box
+  // from outside was within halo + skin of it before, and is a ghost there already.
+  void before_evaluation(Particles<Dim>& p, unsigned also, double moved = std::numeric_limits<double>::infinity()) {
+    if (has_ghosts() && comm_.reducer().max(moved) <= 0.5 * skin_) {
+      refresh(p, {"position", "velocity", "density"});
+      ++reused_;
+      return;
+    }
     strip_ghosts(p);
     const Reducer& all = comm_.reducer();
     const auto owned = static_cast<double>(p.size());
@@ -251,7 +266,7 @@ class Distribution {
     const auto me = static_cast<std::size_t>(comm_.rank());
     send_.assign(ranks, {});
     slots_.assign(ranks, {});
-    const double halo2 = halo_ * halo_;
+    const double halo2 = (halo_ + skin_) * (halo_ + skin_);
     for (std::size_t i = 0; i < p.size(); ++i)
       for (std::size_t r = 0; r < ranks; ++r) {
         if (r == me) continue;
@@ -362,6 +377,7 @@ class Distribution {
   const Communicator& comm_;
   int rank_;
   double halo_;
+  double skin_;
   double imbalance_limit_;
   std::vector<DomainBox> boxes_;
   std::vector<std::uint8_t> ghost_;
@@ -372,6 +388,7 @@ class Distribution {
   std::vector<std::uint32_t> inverse_;
   std::int64_t repartitions_ = 0;
   std::int64_t migrated_ = 0;
+  std::int64_t reused_ = 0;
   double bytes_sent_ = 0.0;
   double exchange_seconds_ = 0.0;
 };

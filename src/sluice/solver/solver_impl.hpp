@@ -47,7 +47,9 @@ void Solver<Dim>::distribute(const Communicator* comm) {
   // also read the water around their ghost nodes, mirrored up to the wall's thickness into the water.
   double halo = 2.0 * settings_.h;
   if (case_.wall_boundary == WallBoundary::mdbc) halo += 2.0 * wall_layers(case_) * case_.dx;
-  distribution_ = std::make_unique<Distribution<Dim>>(*comm, halo * (1.0 + 1e-9));
+  // The skin lets the predictor-corrector's second evaluation keep the ghosts of its first: a step
+  // moves a particle by a small fraction of h (time.cfl), a half step by less than 0.1 h.
+  distribution_ = std::make_unique<Distribution<Dim>>(*comm, halo * (1.0 + 1e-9), 0.2 * settings_.h);
   reducer_ = &comm->reducer();
   distribution_->distribute(particles_);
   // A process without particles has nothing to do: the case is too small for this many processes.
@@ -116,8 +118,25 @@ RateSummary Solver<Dim>::evaluate(bool shepard_due, unsigned also_moved, bool la
   ++evaluations_;
   Distribution<Dim>* const dist = distribution_.get();
   if (dist) {
-    strip_ghosts();
-    dist->before_evaluation(particles_, also_moved);
+    // The predictor-corrector's second evaluation (its step-start state is the first's positions)
+    // may keep the first's ghosts.
+    double moved = std::numeric_limits<double>::infinity();
+    if (case_.integrator == Integrator::predictor_corrector && also_moved == field_role::step_start &&
+        dist->has_ghosts()) {
+      const std::vector<std::uint8_t>& ghost = dist->ghost_mask();
+      double most2 = 0.0;
+      for (std::size_t i = 0; i < particles_.size(); ++i) {
+        if (ghost[i]) continue;
+        double d2 = 0.0;
+        for (int d = 0; d < Dim; ++d) {
+          const double delta = particles_.position[d][i] - particles_.position_start[d][i];
+          d2 += delta * delta;
+        }
+        most2 = std::max(most2, d2);
+      }
+      moved = std::sqrt(most2);
+    }
+    dist->before_evaluation(particles_, also_moved, moved);
   }
   grid_.bin(particles_.position, threads_);
   particles_.reorder(grid_.order(), scratch_, also_moved, threads_);
