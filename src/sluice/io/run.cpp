@@ -455,6 +455,8 @@ class Run {
       if (const auto* d = solver.distribution()) {
         r.bytes_exchanged = options_.comm->reducer().sum(d->bytes_sent() - bytes_before_);
         r.exchange_seconds = options_.comm->reducer().max(d->exchange_seconds() - exchange_seconds_before_);
+        const double builds = static_cast<double>(std::max<std::int64_t>(d->ghost_builds(), 1));
+        r.ghost_share = options_.comm->reducer().sum(d->ghosts_made() / builds) / static_cast<double>(r.particles);
       }
     });
     return r;
@@ -498,9 +500,10 @@ std::string format_summary(const RunResult& r) {
     s += fmt::format("  processes   {} (MPI; the particles split among them by recursive coordinate bisection)\n",
                      r.processes);
     const double steps = static_cast<double>(std::max<std::int64_t>(r.steps_this_run, 1));
-    s += fmt::format("  exchanges   {:.3f} MB per step between processes, {:.2f} ms per step ({:.1f} % of the loop)\n",
+    s += fmt::format("  exchanges   {:.3f} MB per step between processes, {:.2f} ms per step ({:.1f} % of the loop); "
+                     "ghosts {:.1f} % of the particles\n",
                      r.bytes_exchanged / steps * 1e-6, r.exchange_seconds / steps * 1e3,
-                     r.loop_seconds > 0 ? 100.0 * r.exchange_seconds / r.loop_seconds : 0.0);
+                     r.loop_seconds > 0 ? 100.0 * r.exchange_seconds / r.loop_seconds : 0.0, 100.0 * r.ghost_share);
   }
   s += fmt::format("  wall time   {:.2f} s for this run\n", r.wall_seconds);
   s += fmt::format("  loop time   {:.3f} s stepping (without set-up and final output)\n", r.loop_seconds);

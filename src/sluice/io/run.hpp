@@ -59,6 +59,7 @@ struct RunResult {
   // one spent in the particle exchanges (waiting for the others included).
   double bytes_exchanged = 0.0;
   double exchange_seconds = 0.0;
+  double ghost_share = 0.0;  // ghosts per owned particle, all processes, averaged over the evaluations
 };
 
 // Files a run writes into its output directory.
