@@ -111,6 +111,29 @@ def test_an_unstable_run_stops_every_process_and_keeps_the_last_good_state():
     check_outputs_readable(d)
 
 
+def sanitized():
+    """AddressSanitizer reserves terabytes of address space: an address-space limit stops it at start."""
+    r = subprocess.run(["ldd", args.sluice], capture_output=True, text=True)
+    return "libasan" in r.stdout
+
+
+def test_a_process_out_of_memory_stops_every_process_with_its_message():
+    if sanitized():
+        print("  (skipped under AddressSanitizer)", flush=True)
+        return
+    # Process 1 of 2 gets too little address space for the set-up (every process builds the whole case
+    # at dx = 0.01 m, 508k particles, before keeping its share) while process 0 waits for it.
+    r = subprocess.run(["mpirun", "--oversubscribe", "-np", "1", args.sluice, "run", "-q", "--threads", "1",
+                        "--set", "domain.dx=0.01", "--set", "time.end=0.01", "-o", os.path.join(W, "oom"), ":",
+                        "-np", "1", "sh", "-c",
+                        f"ulimit -v 250000; exec {args.sluice} run -q --threads 1 --set domain.dx=0.01 "
+                        f"--set time.end=0.01 -o {os.path.join(W, 'oom')}"],
+                       capture_output=True, text=True, timeout=120, env=ENV)
+    check(r.returncode != 0, f"exit status {r.returncode}\n{r.stderr}")
+    check(r.stderr.count("sluice: error:") == 1, f"one error message expected:\n{r.stderr}")
+    check("process 1 of 2: out of memory" in r.stderr, r.stderr)
+
+
 def test_a_killed_process_ends_the_run_with_an_error():
     d = os.path.join(W, "killed")
     command = ["mpirun", "--oversubscribe", "-np", "2", args.sluice, "run", "-q", "--threads", "1", CASE, "-o", d,
@@ -153,4 +176,5 @@ def _name(stat_path):
 main([test_frames_probes_and_diagnostics_match_one_process, test_checkpoint_of_three_processes_restarts_on_two_and_on_one,
       test_an_output_error_stops_every_process_with_one_message,
       test_an_unstable_run_stops_every_process_and_keeps_the_last_good_state,
+      test_a_process_out_of_memory_stops_every_process_with_its_message,
       test_a_killed_process_ends_the_run_with_an_error])

@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <iostream>
 #include <memory>
+#include <new>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -81,10 +82,14 @@ bool every_process_fails_alike(const std::exception& e) {
 // process meets is printed once, by the root; any other stops every process at once (the others may be
 // waiting for this one), with the message of the process that failed.
 int report(const std::exception& e, int status) {
+  std::string what = e.what();
+  if (dynamic_cast<const std::bad_alloc*>(&e) != nullptr)
+    what = "out of memory (std::bad_alloc); use a coarser domain.dx, or spread the run over more processes "
+           "and machines";
   const Communicator* world = app::processes();
   if (world != nullptr && !every_process_fails_alike(e))
-    world->abort(fmt::format("process {} of {}: {}", world->rank(), world->size(), e.what()), status);
-  if (world == nullptr || world->is_root()) std::cerr << "sluice: error: " << e.what() << "\n";
+    world->abort(fmt::format("process {} of {}: {}", world->rank(), world->size(), what), status);
+  if (world == nullptr || world->is_root()) std::cerr << "sluice: error: " << what << "\n";
   return status;
 }
 
