@@ -57,6 +57,10 @@ def largest_difference(a, b, what):
             hb, vb = load_csv(os.path.join(b, name))
             check(ha == hb and va.shape == vb.shape, f"{what}: {name}: {va.shape} rows vs {vb.shape}")
             check(np.allclose(va[:, 0], vb[:, 0], rtol=1e-9, atol=1e-12), f"{what}: {name}: sample times differ")
+            if name.startswith("probes"):
+                # Pressures (Pa), heights and front positions (m), summed over the processes.
+                worst_probe = float(np.max(np.abs(va - vb))) if va.size else 0.0
+                check(np.allclose(va, vb, rtol=1e-9, atol=1e-6), f"{what}: {name}: values differ by {worst_probe}")
         elif name.endswith(".pvd"):
             check(load_pvd(os.path.join(a, name)) == load_pvd(os.path.join(b, name)), f"{what}: {name} differs")
     return worst

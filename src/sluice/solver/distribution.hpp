@@ -53,7 +53,7 @@ class Distribution {
 
   [[nodiscard]] const Communicator& comm() const { return comm_; }
   [[nodiscard]] const std::vector<DomainBox>& boxes() const { return boxes_; }
-  [[nodiscard]] bool has_ghosts() const { return ghosts_ > 0 || !ghost_.empty(); }
+  [[nodiscard]] bool has_ghosts() const { return built_; }
   [[nodiscard]] std::size_t ghosts() const { return ghosts_; }
   // 1 for a ghost, by particle index (during an evaluation; empty between evaluations).
   [[nodiscard]] const std::vector<std::uint8_t>& ghost_mask() const { return ghost_; }
@@ -68,6 +68,19 @@ class Distribution {
   // sent to others, and seconds it spent in the exchanges (waiting for the others included).
   [[nodiscard]] double bytes_sent() const { return bytes_sent_; }
   [[nodiscard]] double exchange_seconds() const { return exchange_seconds_; }
+
+  // The pair loop's cost of a wall particle against a fluid one. Wall-wall pairs are skipped, and
+  // most wall particles lie deeper in the wall than the water's reach: measured on SPHERIC test 2
+  // (3D, dx = 0.03 m, 2 processes), 5346 fluid + 28162 wall particles cost 12.2 % of the run's CPU
+  // time in the pair loop, 19008 + 14292 cost 35.8 %, so a wall particle costs 0.05 of a fluid one;
+  // 0.1 allows for walls with more water against them (a 2D tank's floor).
+  static constexpr double wall_weight = 0.1;
+  // A set's load: what the boxes balance, in fluid particles.
+  static double load(const Particles<Dim>& p) {
+    double w = 0.0;
+    for (std::size_t i = 0; i < p.size(); ++i) w += p.is_fluid(i) ? 1.0 : wall_weight;
+    return w;
+  }
 
   // Cuts space for the full set of particles that every process holds alike (a new case, or a
   // checkpoint), and keeps this process's share. Particle ids are kept.
@@ -90,7 +103,9 @@ class Distribution {
   // `skin` beyond the halo): then a particle that came within the halo of another process's box
   // from outside was within halo + skin of it before, and is a ghost there already.
   void before_evaluation(Particles<Dim>& p, unsigned also, double moved = std::numeric_limits<double>::infinity()) {
-    if (has_ghosts() && comm_.reducer().max(moved) <= 0.5 * skin_) {
+    // Every process takes part in the decision (a process without particles has no ghosts either).
+    const double farthest = comm_.reducer().max(built_ ? moved : std::numeric_limits<double>::infinity());
+    if (farthest <= 0.5 * skin_) {
       refresh(p, {"position", "velocity", "density"});
       ++reused_;
       return;
@@ -154,6 +169,7 @@ class Distribution {
     compact(p, ghost_);
     ghost_.clear();
     ghosts_ = 0;
+    built_ = false;
     for (auto* lists : {&send_, &slots_})
       for (auto& list : *lists) list.clear();
   }
@@ -223,18 +239,6 @@ class Distribution {
     return std::find(names.begin(), names.end(), info.name) != names.end();
   }
 
-  // The pair loop's cost of a wall particle against a fluid one. Wall-wall pairs are skipped, and
-  // most wall particles lie deeper in the wall than the water's reach: measured on SPHERIC test 2
-  // (3D, dx = 0.03 m, 2 processes), 5346 fluid + 28162 wall particles cost 12.2 % of the run's CPU
-  // time in the pair loop, 19008 + 14292 cost 35.8 %, so a wall particle costs 0.05 of a fluid one;
-  // 0.1 allows for walls with more water against them (a 2D tank's floor).
-  static constexpr double wall_weight = 0.1;
-  // This process's load, in fluid particles.
-  static double load(const Particles<Dim>& p) {
-    double w = 0.0;
-    for (std::size_t i = 0; i < p.size(); ++i) w += p.is_fluid(i) ? 1.0 : wall_weight;
-    return w;
-  }
   void repartition(const Particles<Dim>& p, std::size_t begin, std::size_t end) {
     std::vector<std::array<double, 3>> points(end - begin);
     for (std::size_t i = begin; i < end; ++i)
@@ -315,6 +319,7 @@ class Distribution {
     ghosts_ = arriving;
     ghosts_made_ += static_cast<double>(arriving);
     ++builds_;
+    built_ = true;
     append(p, in, field_role::halo, arriving, &slots_);
   }
 
@@ -403,6 +408,7 @@ class Distribution {
   std::vector<DomainBox> boxes_;
   std::vector<std::uint8_t> ghost_;
   std::size_t ghosts_ = 0;
+  bool built_ = false;  // the ghosts of this evaluation's step are in place (perhaps none)
   // send_[r]: the indices of this process's particles that are ghosts on process r; slots_[r]: the
   // indices of the ghosts process r owns, in the order r sends them.
   std::vector<std::vector<std::uint32_t>> send_, slots_;

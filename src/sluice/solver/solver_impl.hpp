@@ -126,7 +126,7 @@ RateSummary Solver<Dim>::evaluate(bool shepard_due, unsigned also_moved, bool la
       const std::vector<std::uint8_t>& ghost = dist->ghost_mask();
       double most2 = 0.0;
       for (std::size_t i = 0; i < particles_.size(); ++i) {
-        if (ghost[i]) continue;
+        if (i < ghost.size() && ghost[i]) continue;
         double d2 = 0.0;
         for (int d = 0; d < Dim; ++d) {
           const double delta = particles_.position[d][i] - particles_.position_start[d][i];
