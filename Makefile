@@ -35,7 +35,7 @@ bench: configure
 	./$(BUILD_DIR)/sluice-bench-run --csv bench/results.csv
 
 # The tests under AddressSanitizer + UBSan. ASAN_LABELS (labels joined by |) builds and runs only those
-# labels' tests: CI runs `make asan ASAN_LABELS='unit|cli|io'` (see .ci/run).
+# labels' tests: CI runs `make asan ASAN_LABELS='unit|cli|io|mpi'` (see .ci/run).
 ASAN_LABELS ?=
 asan: setup
 	@cmake --preset asan >/dev/null
