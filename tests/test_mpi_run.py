@@ -79,6 +79,17 @@ def test_frames_probes_and_diagnostics_match_one_process():
         check(worst < POSITION_TOLERANCE, f"{processes} processes: positions differ by {worst} m")
 
 
+def test_two_processes_of_two_threads_match_one_process():
+    # MPI and OpenMP together: --threads is per process (4 threads on 2 processes here).
+    d = os.path.join(W, "np2_threads2")
+    command = ["mpirun", "--oversubscribe", "-np", "2", args.sluice, "run", "-q", "--threads", "2", CASE, "-o", d]
+    r = subprocess.run(command, capture_output=True, text=True, timeout=300, env=ENV)
+    check(r.returncode == 0, f"exit status {r.returncode}\n{r.stderr}")
+    worst = largest_difference(REFERENCE, d, "2 processes x 2 threads vs 1 process")
+    print(f"  2 processes x 2 threads: largest position difference from one process {worst:.3g} m", flush=True)
+    check(worst < POSITION_TOLERANCE, f"2 processes x 2 threads: positions differ by {worst} m")
+
+
 def test_checkpoint_of_three_processes_restarts_on_two_and_on_one():
     d = os.path.join(W, "three_then")
     mpirun(3, CASE, "-o", d, "--set", "time.end=0.5")
@@ -177,7 +188,8 @@ def _name(stat_path):
         return ""
 
 
-main([test_frames_probes_and_diagnostics_match_one_process, test_checkpoint_of_three_processes_restarts_on_two_and_on_one,
+main([test_frames_probes_and_diagnostics_match_one_process, test_two_processes_of_two_threads_match_one_process,
+      test_checkpoint_of_three_processes_restarts_on_two_and_on_one,
       test_an_output_error_stops_every_process_with_one_message,
       test_an_unstable_run_stops_every_process_and_keeps_the_last_good_state,
       test_a_process_out_of_memory_stops_every_process_with_its_message,
