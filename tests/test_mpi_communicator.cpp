@@ -377,6 +377,16 @@ void expect_every_point_in_one_box(const std::vector<DomainBox>& boxes, const Po
   EXPECT_EQ(comm->reducer().sum(bad), 0);
 }
 
+// Every process's boxes from comm->partition, checked: the same on every process, tiling space,
+// every point in exactly one.
+std::vector<DomainBox> checked_partition(int dimension, const Points& points, const std::vector<double>& weights) {
+  const std::vector<DomainBox> boxes = comm->partition(dimension, points, weights);
+  expect_same_everywhere(boxes);
+  expect_tiling(boxes, dimension);
+  expect_every_point_in_one_box(boxes, points, dimension);
+  return boxes;
+}
+
 // Each box holds the total weight / processes, within `tolerance` of it.
 void expect_balanced(const std::vector<double>& per_box, double tolerance) {
   double total = 0.0;
@@ -403,10 +413,7 @@ TEST(Partition, UniformCloud3D) {
   NEEDS_PROCESSES();
   const Points points = uniform_cloud(20000, 1);
   const std::vector<double> weights(points.size(), 1.0);
-  const std::vector<DomainBox> boxes = comm->partition(3, points, weights);
-  expect_same_everywhere(boxes);
-  expect_tiling(boxes, 3);
-  expect_every_point_in_one_box(boxes, points, 3);
+  const std::vector<DomainBox> boxes = checked_partition(3, points, weights);
   expect_balanced(weight_per_box(boxes, points, weights, 3), balance_tolerance);
 }
 
@@ -415,10 +422,7 @@ TEST(Partition, UniformCloud2DIgnoresTheThirdComponent) {
   Points points = uniform_cloud(20000, 2, {2.0, 1.0, 1.0});
   for (auto& p : points) p[2] = std::numeric_limits<double>::quiet_NaN();
   const std::vector<double> weights(points.size(), 1.0);
-  const std::vector<DomainBox> boxes = comm->partition(2, points, weights);
-  expect_same_everywhere(boxes);
-  expect_tiling(boxes, 2);
-  expect_every_point_in_one_box(boxes, points, 2);
+  const std::vector<DomainBox> boxes = checked_partition(2, points, weights);
   expect_balanced(weight_per_box(boxes, points, weights, 2), balance_tolerance);
 }
 
@@ -431,10 +435,7 @@ TEST(Partition, SkewedCloud) {
       for (auto& x : points[i]) x *= 0.05;
   const std::vector<double> weights(points.size(), 1.0);
   for (int dimension : {2, 3}) {
-    const std::vector<DomainBox> boxes = comm->partition(dimension, points, weights);
-    expect_same_everywhere(boxes);
-    expect_tiling(boxes, dimension);
-    expect_every_point_in_one_box(boxes, points, dimension);
+    const std::vector<DomainBox> boxes = checked_partition(dimension, points, weights);
     expect_balanced(weight_per_box(boxes, points, weights, dimension), balance_tolerance);
   }
 }
@@ -447,10 +448,7 @@ TEST(Partition, BalancesWeightNotCount) {
   for (std::size_t i = 0; i < points.size(); ++i) weights[i] = points[i][0] < 1.0 ? 10.0 : 1.0;
   const std::vector<double> ones(points.size(), 1.0);
   for (int dimension : {2, 3}) {
-    const std::vector<DomainBox> boxes = comm->partition(dimension, points, weights);
-    expect_same_everywhere(boxes);
-    expect_tiling(boxes, dimension);
-    expect_every_point_in_one_box(boxes, points, dimension);
+    const std::vector<DomainBox> boxes = checked_partition(dimension, points, weights);
     expect_balanced(weight_per_box(boxes, points, weights, dimension), balance_tolerance);
     if (n > 1) {
       const std::vector<double> counts = weight_per_box(boxes, points, ones, dimension);
@@ -466,10 +464,7 @@ TEST(Partition, ProcessesWithoutPoints) {
   for (int empty_from : {1, n - 1}) {
     const Points points = me < std::max(empty_from, 1) ? uniform_cloud(30000, 5) : Points{};
     const std::vector<double> weights(points.size(), 1.0);
-    const std::vector<DomainBox> boxes = comm->partition(3, points, weights);
-    expect_same_everywhere(boxes);
-    expect_tiling(boxes, 3);
-    expect_every_point_in_one_box(boxes, points, 3);
+    const std::vector<DomainBox> boxes = checked_partition(3, points, weights);
     expect_balanced(weight_per_box(boxes, points, weights, 3), balance_tolerance);
   }
 }
@@ -574,10 +569,7 @@ TEST(Partition, AllPointsIdentical) {
   const Points points(100, {0.3, -2.0, 7.0});
   const std::vector<double> weights(points.size(), 1.0);
   for (int dimension : {2, 3}) {
-    const std::vector<DomainBox> boxes = comm->partition(dimension, points, weights);
-    expect_same_everywhere(boxes);
-    expect_tiling(boxes, dimension);
-    expect_every_point_in_one_box(boxes, points, dimension);
+    const std::vector<DomainBox> boxes = checked_partition(dimension, points, weights);
   }
 }
 
@@ -591,10 +583,7 @@ TEST(Partition, ClumpThatCannotBeSplitBesideACloud) {
     if (i % 3 != 0) points[i] = {0.0, 0.75, 0.75};
   const std::vector<double> weights(points.size(), 1.0);
   for (int dimension : {2, 3}) {
-    const std::vector<DomainBox> boxes = comm->partition(dimension, points, weights);
-    expect_same_everywhere(boxes);
-    expect_tiling(boxes, dimension);
-    expect_every_point_in_one_box(boxes, points, dimension);
+    const std::vector<DomainBox> boxes = checked_partition(dimension, points, weights);
   }
 }
 
@@ -612,10 +601,7 @@ TEST(Partition, FewerPointsThanProcesses) {
   NEEDS_PROCESSES();
   const Points points = me == 0 ? Points{{0.5, 0.5, 0.5}} : Points{};
   const std::vector<double> weights(points.size(), 1.0);
-  const std::vector<DomainBox> boxes = comm->partition(3, points, weights);
-  expect_same_everywhere(boxes);
-  expect_tiling(boxes, 3);
-  expect_every_point_in_one_box(boxes, points, 3);
+  const std::vector<DomainBox> boxes = checked_partition(3, points, weights);
 }
 
 TEST(Partition, NoPointsAnywhere) {

@@ -163,15 +163,19 @@ class Distribution {
   }
 
   // Drops the ghosts (every field, keeping the owned particles' order).
-  void strip_ghosts(Particles<Dim>& p) {
-    if (!has_ghosts()) return;
-    for (auto& g : ghost_) g = !g;
-    compact(p, ghost_);
-    ghost_.clear();
+  // Returns which particles were kept (1) by index before the drop (empty when there were no ghosts),
+  // for whoever indexes them too (the cell grid).
+  std::vector<std::uint8_t> strip_ghosts(Particles<Dim>& p) {
+    if (!has_ghosts()) return {};
+    std::vector<std::uint8_t> keep;
+    keep.swap(ghost_);
+    for (auto& k : keep) k = !k;
+    compact(p, keep);
     ghosts_ = 0;
     built_ = false;
     for (auto* lists : {&send_, &slots_})
       for (auto& list : *lists) list.clear();
+    return keep;
   }
 
   // Every process's owned particles (the fields with any of `roles`, which must be fields every run

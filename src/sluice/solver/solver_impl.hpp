@@ -63,9 +63,7 @@ void Solver<Dim>::distribute(const Communicator* comm) {
 template <int Dim>
 void Solver<Dim>::strip_ghosts() {
   if (!distribution_ || !distribution_->has_ghosts()) return;
-  std::vector<std::uint8_t> keep = distribution_->ghost_mask();
-  for (auto& k : keep) k = !k;
-  distribution_->strip_ghosts(particles_);
+  const std::vector<std::uint8_t> keep = distribution_->strip_ghosts(particles_);
   if (grid_binned_) grid_.keep(keep);
 }
 
