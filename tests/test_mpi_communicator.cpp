@@ -235,6 +235,65 @@ TEST(Exchange, WrongNumberOfPartsThrows) {
   EXPECT_THROW((void)comm->exchange(std::vector<std::string>(static_cast<std::size_t>(n + 1))), std::invalid_argument);
 }
 
+// ---- Failures ----
+
+// A process that fails between collective calls reports it (fail); the others, waiting in their next
+// collective call, throw ProcessFailure with its message instead; then all go on together.
+TEST(Failure, TheOthersLearnOfItInTheirNextCollectiveCall) {
+  NEEDS_PROCESSES();
+  if (n < 2) GTEST_SKIP() << "needs 2 processes";
+  const int failing = n - 1;
+  sluice::Failure seen;
+  if (me == failing) {
+    seen = comm->fail("out of memory here", 7);
+  } else {
+    try {
+      (void)comm->exchange(std::vector<std::string>(static_cast<std::size_t>(n), "x"));
+      ADD_FAILURE() << "the exchange went ahead";
+    } catch (const sluice::ProcessFailure& e) {
+      seen = e.failure();
+      EXPECT_EQ(std::string(e.what()), "process " + std::to_string(failing) + " of " + std::to_string(n) +
+                                           ": out of memory here");
+    }
+  }
+  EXPECT_EQ(seen.process, failing);
+  EXPECT_EQ(seen.processes, n);
+  EXPECT_EQ(seen.kind, 7);
+  EXPECT_EQ(seen.message, "out of memory here");
+  // Every process is past the failure at the same point: the next calls match.
+  EXPECT_EQ(comm->reducer().sum(std::int64_t{1}), n);
+}
+
+// Processes that fail together: every one receives the first's failure, in every kind of call.
+TEST(Failure, SeveralAtOnceGiveTheFirstsAndEveryCallChecks) {
+  NEEDS_PROCESSES();
+  for (int call = 0; call < 5; ++call) {
+    const bool fails = me % 2 == 1 || n == 1;
+    sluice::Failure seen;
+    if (fails) {
+      seen = comm->fail("failure of process " + std::to_string(me), me);
+    } else {
+      try {
+        switch (call) {
+          case 0: (void)comm->reducer().max(1.0); break;
+          case 1: (void)comm->reducer().sum(1.0); break;
+          case 2: (void)comm->gather("part"); break;
+          case 3: (void)comm->broadcast("root"); break;
+          default: (void)comm->partition(2, Points{{0.0, 0.0, 0.0}}, {1.0}); break;
+        }
+        ADD_FAILURE() << "call " << call << " went ahead";
+      } catch (const sluice::ProcessFailure& e) {
+        seen = e.failure();
+      }
+    }
+    const int first = n == 1 ? 0 : 1;
+    EXPECT_EQ(seen.process, first) << "call " << call;
+    EXPECT_EQ(seen.kind, first) << "call " << call;
+    EXPECT_EQ(seen.message, "failure of process " + std::to_string(first)) << "call " << call;
+  }
+  EXPECT_EQ(comm->reducer().sum(std::int64_t{1}), n);
+}
+
 TEST(Gather, RootReceivesThePartsInRankOrder) {
   NEEDS_PROCESSES();
   auto part = [](int r) { return r == 1 ? std::string() : message(r, 0) + std::string(1, '\0') + "end"; };

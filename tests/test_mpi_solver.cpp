@@ -7,12 +7,18 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <cmath>
+#include <filesystem>
 #include <memory>
+#include <new>
+#include <string>
 
 #include "sluice/case/builtin_cases.hpp"
 #include "sluice/case/overrides.hpp"
 #include "sluice/case/params.hpp"
+#include "sluice/io/checkpoint.hpp"
+#include "sluice/io/run.hpp"
 #include "sluice/mpi/mpi_communicator.hpp"
 #include "sluice/simulation.hpp"
 
@@ -150,6 +156,91 @@ TEST(Distributed, EveryProcessOwnsParticlesTheyMigrateAndTheBoxesFollowTheWater)
   EXPECT_LT(world->reducer().max(load), 1.2 * mean);
   const Diagnostics d = sim.diagnostics();
   EXPECT_EQ(d.fluid_particles + d.wall_particles, sim.particle_count());
+}
+
+// The world's communicator, except that on one process the n-th exchange of particles throws
+// std::bad_alloc before it starts, as running out of memory while packing a message would: an error
+// on one process, between collective calls, in the middle of a step.
+class FailingCommunicator final : public Communicator {
+ public:
+  FailingCommunicator(const Communicator& real, int process, int at) : real_(real), process_(process), at_(at) {}
+  [[nodiscard]] int rank() const override { return real_.rank(); }
+  [[nodiscard]] int size() const override { return real_.size(); }
+  [[nodiscard]] const Reducer& reducer() const override { return real_.reducer(); }
+  [[nodiscard]] std::vector<std::string> exchange(const std::vector<std::string>& send) const override {
+    if (rank() == process_ && ++exchanges_ == at_) throw std::bad_alloc();
+    return real_.exchange(send);
+  }
+  [[nodiscard]] std::vector<std::string> gather(const std::string& part) const override { return real_.gather(part); }
+  [[nodiscard]] std::string broadcast(const std::string& from_root) const override {
+    return real_.broadcast(from_root);
+  }
+  [[nodiscard]] std::vector<DomainBox> partition(int dimension, const std::vector<std::array<double, 3>>& points,
+                                                 const std::vector<double>& weights) const override {
+    return real_.partition(dimension, points, weights);
+  }
+  [[nodiscard]] Failure fail(const std::string& message, int kind) const override { return real_.fail(message, kind); }
+  [[noreturn]] void abort(const std::string& message, int status) const override {
+    real_.abort(message, status);
+    std::abort();  // not reached (the compiler does not carry [[noreturn]] through the virtual call)
+  }
+
+ private:
+  const Communicator& real_;
+  int process_;
+  int at_;
+  mutable int exchanges_ = 0;
+};
+
+// A process that fails in the middle of a step: every process stops with one error naming it, and
+// the state before that step is saved as the last frame and a checkpoint, which holds every particle
+// where one process has them after the same number of steps.
+TEST(Distributed, AProcessThatFailsMidStepStopsAllAndTheLastGoodStateIsSaved) {
+  Case c = collapse({});
+  apply_override(c, "time.end=1");
+  apply_override(c, "output.interval=0.01");
+  const auto dir = std::filesystem::temp_directory_path() / ("sluice_mpi_failure_np" + std::to_string(world->size()));
+  if (world->is_root()) std::filesystem::remove_all(dir);
+  const int failing = world->size() - 1;
+  const FailingCommunicator comm(*world, failing, 200);  // about step 70 (3 exchanges a step)
+  RunOptions options;
+  options.output_dir = dir;
+  options.progress = RunOptions::Progress::none;
+  options.comm = &comm;
+  std::string error;
+  try {
+    (void)run_case(c, options, std::cerr);
+  } catch (const RunFailure& e) {
+    error = e.what();
+  }
+  const std::string expected = "process " + std::to_string(failing) + " of " + std::to_string(world->size()) +
+                               " failed at t = ";
+  EXPECT_EQ(error.rfind(expected, 0), 0u) << error;
+  EXPECT_NE(error.find("out of memory"), std::string::npos) << error;
+  EXPECT_NE(error.find("--restart"), std::string::npos) << error;
+  if (!world->is_root()) return;
+  const Checkpoint cp = read_checkpoint(dir / "checkpoint.bin");
+  EXPECT_GT(cp.clock.step, 30);
+  EXPECT_LT(cp.clock.step, 150);
+  const auto& saved = std::get<Particles<2>>(cp.particles);
+  Simulation serial(c, 1);
+  while (serial.clock().step < cp.clock.step) serial.step();
+  const Particles<2>& one = serial.particles<2>();
+  ASSERT_EQ(saved.size(), one.size());
+  EXPECT_NEAR(cp.clock.time, serial.time(), 1e-12);
+  std::vector<std::size_t> row(one.size());
+  for (std::size_t i = 0; i < one.size(); ++i) row[one.id[i]] = i;
+  double worst = 0.0;
+  for (std::size_t k = 0; k < saved.size(); ++k)
+    for (int d = 0; d < 2; ++d)
+      worst = std::max(worst, std::abs(saved.position[d][k] - one.position[d][row[saved.id[k]]]));
+  EXPECT_LT(worst, 1e-9);
+  // The last frame is that state too, written after the regular frames before it.
+  bool frame_found = false;
+  for (const auto& entry : std::filesystem::directory_iterator(dir / "frames"))
+    frame_found = frame_found || entry.path().extension() == ".npz";
+  EXPECT_TRUE(frame_found);
+  std::filesystem::remove_all(dir);
 }
 
 int main(int argc, char** argv) {

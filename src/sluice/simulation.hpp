@@ -38,6 +38,9 @@ class Simulation {
   void restore_saved_state() {
     visit([](auto& s) { s.restore_saved_state(); });
   }
+  [[nodiscard]] bool has_saved_state() const {
+    return visit([](const auto& s) { return s.has_saved_state(); });
+  }
 
   [[nodiscard]] int dimension() const { return std::holds_alternative<Solver<3>>(solver_) ? 3 : 2; }
   [[nodiscard]] const Clock& clock() const { return visit([](const auto& s) -> const Clock& { return s.clock(); }); }

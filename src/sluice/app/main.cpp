@@ -69,25 +69,14 @@ std::optional<int> refuse_missing_command(int argc, char** argv, const std::vect
   return std::nullopt;
 }
 
-// An error every process of an MPI run meets alike: bad input (every process reads the same case and
-// command line), a damaged checkpoint (every process reads it), an output error (the root's, sent to
-// all: io/run.cpp) and an unstable run (the guard's count is over all processes).
-bool every_process_fails_alike(const std::exception& e) {
-  return dynamic_cast<const CaseError*>(&e) != nullptr || dynamic_cast<const app::BadInput*>(&e) != nullptr ||
-         dynamic_cast<const IoError*>(&e) != nullptr || dynamic_cast<const FormatError*>(&e) != nullptr ||
-         dynamic_cast<const InstabilityError*>(&e) != nullptr;
-}
-
 // Prints an error as "sluice: error: ..." and gives its exit status. In an MPI run, an error every
-// process meets is printed once, by the root; any other stops every process at once (the others may be
-// waiting for this one), with the message of the process that failed.
+// process meets alike (io/run.hpp: fails_alike; bad command-line input) is printed once, by the root;
+// any other stops every process at once (the others may be waiting for this one), with the message of
+// the process that failed.
 int report(const std::exception& e, int status) {
-  std::string what = e.what();
-  if (dynamic_cast<const std::bad_alloc*>(&e) != nullptr)
-    what = "out of memory (std::bad_alloc); use a coarser domain.dx, or spread the run over more processes "
-           "and machines";
+  const std::string what = error_text(e);
   const Communicator* world = app::processes();
-  if (world != nullptr && !every_process_fails_alike(e))
+  if (world != nullptr && !fails_alike(e) && dynamic_cast<const app::BadInput*>(&e) == nullptr)
     world->abort(fmt::format("process {} of {}: {}", world->rank(), world->size(), what), status);
   if (world == nullptr || world->is_root()) std::cerr << "sluice: error: " << what << "\n";
   return status;

@@ -6,7 +6,9 @@
 #pragma once
 
 #include <array>
+#include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sluice/core/reduce.hpp"
@@ -17,6 +19,30 @@ namespace sluice {
 struct DomainBox {
   std::array<double, 3> lower{};
   std::array<double, 3> upper{};
+};
+
+// What a process that failed tells the others (Communicator::fail).
+struct Failure {
+  int process = 0;      // the process that failed (the first, when several failed together)
+  int processes = 1;    // how many processes the run has
+  int kind = 0;         // the caller's classification of the error, passed along as is
+  std::string message;  // that process's message
+
+  // "process 1 of 4: <message>"
+  [[nodiscard]] std::string describe() const {
+    return "process " + std::to_string(process) + " of " + std::to_string(processes) + ": " + message;
+  }
+};
+
+// Thrown by a collective call when another process has failed: the call does not take place, and every
+// process that was waiting learns of the failure at once (Communicator::fail).
+class ProcessFailure : public std::runtime_error {
+ public:
+  explicit ProcessFailure(Failure f) : std::runtime_error(f.describe()), failure_(std::move(f)) {}
+  [[nodiscard]] const Failure& failure() const { return failure_; }
+
+ private:
+  Failure failure_;
 };
 
 class Communicator {
@@ -43,6 +69,15 @@ class Communicator {
   // upper). Every process receives all the boxes.
   [[nodiscard]] virtual std::vector<DomainBox> partition(int dimension, const std::vector<std::array<double, 3>>& points,
                                                          const std::vector<double>& weights) const = 0;
+
+  // A process that meets an error between collective calls (in its own work, where the others cannot
+  // see it) reports it here, instead of making its next collective call. Every collective call starts
+  // by checking for such a report: a process waiting there throws ProcessFailure instead, with this
+  // Failure. So every process learns of the failure at the same point of the sequence of collective
+  // calls, and all can go on together (to save the last good state). Returns the Failure the others
+  // receive: the first process's, when several fail together. An error inside a collective call (out
+  // of memory for its buffers) cannot be reported so, and stops every process (abort).
+  [[nodiscard]] virtual Failure fail(const std::string& message, int kind) const = 0;
 
   // Stops every process at once with this message on standard error and the exit status (for a
   // process that fails where the others cannot learn of it: they are waiting for it in a collective).

@@ -6,12 +6,15 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <new>
 
+#include "sluice/case/case_error.hpp"
 #include "sluice/case/params.hpp"
 #include "sluice/io/append_file.hpp"
 #include "sluice/io/atomic_file.hpp"
 #include "sluice/io/checkpoint.hpp"
 #include "sluice/io/frames.hpp"
+#include "sluice/io/npz.hpp"
 #include "sluice/io/probes.hpp"
 #include "sluice/physics/simd_target.hpp"
 
@@ -353,23 +356,34 @@ class Run {
         exchange_seconds_before_ = d->exchange_seconds();
       }
     });
-    if (fresh_) {
-      outputs_.sample_probes(*sim_);
-      outputs_.write_frame(0, *sim_, 0.0);
-    }
-    loop_start_ = steady::now();
-    while (sim_->time() < schedule_.end()) {
-      if (stop_requested()) {
-        interrupted_ = true;
-        break;
+    try {
+      if (fresh_) {
+        outputs_.sample_probes(*sim_);
+        outputs_.write_frame(0, *sim_, 0.0);
       }
-      step();
-      write_due_outputs();
-      progress_.update(*sim_, steps_, seconds_since(loop_start_));
+      loop_start_ = steady::now();
+      while (sim_->time() < schedule_.end()) {
+        if (stop_requested()) {
+          interrupted_ = true;
+          break;
+        }
+        step();
+        write_due_outputs();
+        progress_.update(*sim_, steps_, seconds_since(loop_start_));
+      }
+      progress_.update(*sim_, steps_, seconds_since(loop_start_), true);
+      progress_.finish();
+      return finish();
+    } catch (const ProcessFailure& e) {
+      stop_failed(e.failure());  // another process failed: this one learnt of it in a collective call
+    } catch (const std::exception& e) {
+      // An error every process met alike is reported as it is. With one process, so is an error
+      // outside a step (writing the outputs): there is no other state to save than the one that failed.
+      if (fails_alike(e) || (options_.comm == nullptr && !mid_step_)) throw;
+      const int kind = dynamic_cast<const std::runtime_error*>(&e) != nullptr ? kUnstable : kFailed;
+      const std::string what = error_text(e);
+      stop_failed(options_.comm != nullptr ? options_.comm->fail(what, kind) : Failure{0, 1, kind, what});
     }
-    progress_.update(*sim_, steps_, seconds_since(loop_start_), true);
-    progress_.finish();
-    return finish();
   }
 
  private:
@@ -383,30 +397,73 @@ class Run {
   }
 
   // The instability guard: if the step leaves any particle non-finite, far outside the tank or at an
-  // absurd density, go back to the state before it, save that and stop.
+  // absurd density, go back to the state before it, save that and stop. (A step that throws, which
+  // the solver does when the time step is not finite, is stopped the same way: to_end, stop_failed.)
   void step() {
-    std::string failure;
-    try {
-      sim_->step(schedule_.step_limit());
-    } catch (const std::runtime_error& e) {
-      failure = e.what();
+    mid_step_ = true;
+    sim_->step(schedule_.step_limit());
+    mid_step_ = false;
+    const Health health = sim_->check_health();
+    if (!health.ok()) {
+      const double bad_time = sim_->time();
+      const std::int64_t bad_step = sim_->clock().step;
+      sim_->restore_saved_state();
+      save_last_good_state();
+      throw InstabilityError(describe_instability("", health, bad_time, bad_step, *sim_, schedule_.next_frame(),
+                                                  options_.output_dir));
     }
-    const Health health = failure.empty() ? sim_->check_health() : Health{};
-    if (!failure.empty() || !health.ok()) stop_unstable(failure, health);
     ++steps_;
     frame_is_current_ = false;
     outputs_.sample_probes(*sim_);
   }
 
-  [[noreturn]] void stop_unstable(const std::string& failure, const Health& health) {
+  // How a process's error is classed for the others (Failure::kind): a std::runtime_error from a
+  // step is the solver finding the run unstable (a time step that is not finite); anything else
+  // (out of memory, a broken invariant) is a failure of the process.
+  static constexpr int kFailed = 0, kUnstable = 1;
+
+  // After an error on any process, every process here together (after fail(), or the ProcessFailure
+  // that it raised in the others): back to the state before the step the error cut short, that state
+  // saved as the last frame and a checkpoint, and one error for all. A step is cut short on all
+  // processes if on any (the others wait in its collective calls, or have finished it; a finished
+  // step's start is still saved). The state is saved only if it is whole: every process back at the
+  // start of the step, and every particle there once (an error in the middle of moving particles
+  // between processes can lose some); otherwise the last checkpoint is what remains.
+  [[noreturn]] void stop_failed(const Failure& f) {
+    const Reducer& all = options_.comm != nullptr ? options_.comm->reducer() : serial_reducer();
     const double bad_time = sim_->time();
     const std::int64_t bad_step = sim_->clock().step;
-    sim_->restore_saved_state();
+    bool whole = true;
+    if (all.max(mid_step_ ? 1.0 : 0.0) > 0.0) {
+      const double saved = sim_->has_saved_state() ? 1.0 : 0.0;
+      whole = all.min(saved) == all.max(saved);
+      sim_->restore_saved_state();
+      mid_step_ = false;
+    }
+    whole = whole && sim_->particle_count() == particles_;
+    const std::string at = fmt::format("at t = {:.6g} s (step {})", bad_time, bad_step);
+    const std::string who =
+        f.processes > 1 ? fmt::format("process {} of {} failed {}", f.process, f.processes, at) : "the run failed " + at;
+    if (!whole)
+      throw RunFailure(fmt::format("{}: {}\nIts state could not be saved (the error cut short an exchange of "
+                                   "particles between processes); the last checkpoint written is in {}.",
+                                   who, f.message, options_.output_dir.string()));
+    save_last_good_state();
+    if (f.kind == kUnstable)
+      throw InstabilityError(describe_instability(f.processes > 1 ? f.describe() : f.message, Health{}, bad_time,
+                                                  bad_step, *sim_, schedule_.next_frame(), options_.output_dir));
+    throw RunFailure(fmt::format(
+        "{}: {}\nThe last good state (t = {:.6g} s, step {}) is saved as {}/frame_{:06} and {} in {}; `sluice run "
+        "--restart {}` continues from it.",
+        who, f.message, sim_->time(), sim_->clock().step, output_files::frames_dir, schedule_.next_frame(),
+        output_files::checkpoint, options_.output_dir.string(),
+        (options_.output_dir / output_files::checkpoint).string()));
+  }
+
+  void save_last_good_state() {
     outputs_.write_frame(schedule_.next_frame(), *sim_, wall());
     outputs_.write_checkpoint_file(*sim_, wall());
     progress_.finish();
-    throw InstabilityError(describe_instability(failure, health, bad_time, bad_step, *sim_, schedule_.next_frame(),
-                                                options_.output_dir));
   }
 
   void write_due_outputs() {
@@ -471,6 +528,8 @@ class Run {
   Schedule schedule_;
   Progress progress_;
   std::int64_t steps_ = 0;
+  std::size_t particles_ = sim_->particle_count();  // on all processes; constant through a run
+  bool mid_step_ = false;                           // in Simulation::step
   double bytes_before_ = 0.0, exchange_seconds_before_ = 0.0;  // the set-up's exchanges
   bool interrupted_ = false;
   // A restart's state at the checkpoint time is already on disk (or, at a non-frame time, needs no frame).
@@ -478,6 +537,20 @@ class Run {
 };
 
 }  // namespace
+
+bool fails_alike(const std::exception& e) {
+  return dynamic_cast<const CaseError*>(&e) != nullptr || dynamic_cast<const IoError*>(&e) != nullptr ||
+         dynamic_cast<const FormatError*>(&e) != nullptr || dynamic_cast<const InstabilityError*>(&e) != nullptr ||
+         dynamic_cast<const RunFailure*>(&e) != nullptr;
+}
+
+std::string error_text(const std::exception& e) {
+  if (dynamic_cast<const std::bad_alloc*>(&e) != nullptr)
+    return "out of memory (std::bad_alloc); use a coarser domain.dx, or spread the run over more processes and "
+           "machines";
+  const std::string what = e.what();
+  return what.empty() ? "an error without a message" : what;
+}
 
 RunResult run_case(const Case& requested, const RunOptions& options, std::ostream& log) {
   const auto wall_start = steady::now();

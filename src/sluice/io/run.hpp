@@ -39,6 +39,21 @@ struct InstabilityError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A process failed in the middle of a run (out of memory, a broken invariant): every process stops
+// with this error, which names the process, the time and the step, and where the last good state
+// was saved (the state before the step the error cut short).
+struct RunFailure : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// An error every process of a run meets alike, where all stop together with it: bad input (every
+// process reads the same case), a damaged file read by all, an output error (the root's, sent to all),
+// an unstable run and a run failure (agreed over all processes: Communicator::fail).
+[[nodiscard]] bool fails_alike(const std::exception& e);
+
+// An error's message for the user, with advice for running out of memory.
+[[nodiscard]] std::string error_text(const std::exception& e);
+
 struct RunResult {
   Diagnostics final;
   std::size_t particles = 0;

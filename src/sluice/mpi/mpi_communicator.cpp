@@ -18,6 +18,7 @@
 #include <iostream>
 #include <limits>
 #include <mutex>
+#include <new>
 #include <numeric>
 #include <optional>
 #include <stdexcept>
@@ -79,9 +80,41 @@ std::optional<std::string> first_error(MPI_Comm comm, int rank, int size, const 
   return message;
 }
 
+// The failure of the first process that reported one (Communicator::fail), on every process.
+// `mine` is this process's, or null.
+Failure first_failure(MPI_Comm comm, int rank, int size, const Failure* mine) {
+  const int candidate = mine != nullptr ? rank : size;
+  int first = size;
+  MPI_Allreduce(&candidate, &first, 1, MPI_INT, MPI_MIN, comm);
+  Failure f;
+  f.process = first;
+  f.processes = size;
+  std::int64_t head[2] = {0, 0};  // kind, message length
+  if (rank == first) {
+    f.kind = mine->kind;
+    f.message = mine->message;
+    head[0] = f.kind;
+    head[1] = static_cast<std::int64_t>(std::min<std::size_t>(f.message.size(), max_count));
+  }
+  MPI_Bcast(head, 2, MPI_INT64_T, first, comm);
+  f.kind = static_cast<int>(head[0]);
+  f.message.resize(static_cast<std::size_t>(head[1]));
+  MPI_Bcast(f.message.data(), static_cast<int>(head[1]), MPI_CHAR, first, comm);
+  return f;
+}
+
+// What every collective call does first: learn whether a process has failed (Communicator::fail, which
+// takes part in this reduction with 1), and if one has, throw its Failure instead of going on.
+void check_failures(MPI_Comm comm, int rank, int size) {
+  const int mine = 0;
+  int any = 0;
+  MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, comm);
+  if (any != 0) throw ProcessFailure(first_failure(comm, rank, size, nullptr));
+}
+
 class MpiReducer final : public Reducer {
  public:
-  MpiReducer(MPI_Comm comm, int size) : comm_(comm), size_(size) {
+  MpiReducer(MPI_Comm comm, int rank, int size) : comm_(comm), rank_(rank), size_(size) {
     MPI_Op_create(&max_op, /*commute=*/1, &max_);
     MPI_Op_create(&min_op, /*commute=*/1, &min_);
   }
@@ -96,6 +129,7 @@ class MpiReducer final : public Reducer {
   // Every process adds all the parts in rank order (MPI_SUM would add them in an order of MPI's
   // choosing, which may differ between processes and runs, and so may the last bits).
   [[nodiscard]] double sum(double part) const override {
+    check_failures(comm_, rank_, size_);
     std::vector<double> parts(static_cast<std::size_t>(size_));
     MPI_Allgather(&part, 1, MPI_DOUBLE, parts.data(), 1, MPI_DOUBLE, comm_);
     double total = parts[0];
@@ -104,24 +138,28 @@ class MpiReducer final : public Reducer {
   }
 
   [[nodiscard]] std::int64_t sum(std::int64_t part) const override {
+    check_failures(comm_, rank_, size_);
     std::int64_t total = 0;
     MPI_Allreduce(&part, &total, 1, MPI_INT64_T, MPI_SUM, comm_);
     return total;
   }
 
   [[nodiscard]] double max(double part) const override {
+    check_failures(comm_, rank_, size_);
     double result = part;
     MPI_Allreduce(&part, &result, 1, MPI_DOUBLE, max_, comm_);
     return result;
   }
 
   [[nodiscard]] double min(double part) const override {
+    check_failures(comm_, rank_, size_);
     double result = part;
     MPI_Allreduce(&part, &result, 1, MPI_DOUBLE, min_, comm_);
     return result;
   }
 
   [[nodiscard]] std::vector<double> max(std::vector<double> parts) const override {
+    check_failures(comm_, rank_, size_);
     // Vectors of different lengths would make MPI read past the shorter ones: check first, on all.
     const auto length = static_cast<long long>(parts.size());
     long long bounds[2] = {length, -length};
@@ -140,6 +178,7 @@ class MpiReducer final : public Reducer {
   // Every process learns every value and payload length, picks the same winner (NaN above every
   // number, ties to the lowest rank, +0 and -0 equal) and receives the winner's payload.
   [[nodiscard]] std::vector<double> payload_of_max(double value, std::vector<double> payload) const override {
+    check_failures(comm_, rank_, size_);
     struct Entry {
       double value;
       std::uint64_t length;
@@ -164,6 +203,7 @@ class MpiReducer final : public Reducer {
 
  private:
   MPI_Comm comm_;
+  int rank_;
   int size_;
   MPI_Op max_ = MPI_OP_NULL;
   MPI_Op min_ = MPI_OP_NULL;
@@ -415,7 +455,7 @@ struct MpiCommunicator::State {
   int size;
   MpiReducer reducer;
 
-  explicit State(MPI_Comm c) : comm(c), rank(rank_of(c)), size(size_of(c)), reducer(c, size) {}
+  explicit State(MPI_Comm c) : comm(c), rank(rank_of(c)), size(size_of(c)), reducer(c, rank, size) {}
   ~State() {
     if (!mpi_finalized()) MPI_Comm_free(&comm);
   }
@@ -433,184 +473,218 @@ int MpiCommunicator::size() const { return state_->size; }
 
 const Reducer& MpiCommunicator::reducer() const { return state_->reducer; }
 
-std::vector<std::string> MpiCommunicator::exchange(const std::vector<std::string>& send) const {
+template <class F>
+auto MpiCommunicator::collective(F&& body) const {
   const State& s = *state_;
-  const auto n = static_cast<std::size_t>(s.size);
-  const auto me = static_cast<std::size_t>(s.rank);
-  if (send.size() != n)
-    throw std::invalid_argument(fmt::format("exchange: {} parts to send on process {}; expected one per process ({})",
-                                            send.size(), s.rank, s.size));
-  // Our own part does not travel.
-  std::vector<std::uint64_t> send_bytes(n), receive_bytes(n);
-  for (std::size_t r = 0; r < n; ++r) send_bytes[r] = r == me ? 0 : send[r].size();
-  MPI_Alltoall(send_bytes.data(), 1, MPI_UINT64_T, receive_bytes.data(), 1, MPI_UINT64_T, s.comm);
-  const std::uint64_t total_send = std::accumulate(send_bytes.begin(), send_bytes.end(), std::uint64_t{0});
-  const std::uint64_t total_receive = std::accumulate(receive_bytes.begin(), receive_bytes.end(), std::uint64_t{0});
-  std::string error;
-  if (total_send > max_count || total_receive > max_count)
-    error = fmt::format(
-        "exchange: process {} sends {} bytes and receives {}; MPI counts the bytes of one exchange in int, at most {} "
-        "each way: send them in smaller pieces",
-        s.rank, total_send, total_receive, max_count);
-  if (auto e = first_error(s.comm, s.rank, s.size, error)) throw std::length_error(*e);
-
-  std::vector<int> send_counts(n), send_offsets(n), receive_counts(n), receive_offsets(n);
-  std::string send_buffer;
-  send_buffer.reserve(total_send);
-  int offset = 0;
-  for (std::size_t r = 0; r < n; ++r) {
-    send_counts[r] = static_cast<int>(send_bytes[r]);
-    send_offsets[r] = static_cast<int>(send_buffer.size());
-    if (r != me) send_buffer += send[r];
-    receive_counts[r] = static_cast<int>(receive_bytes[r]);
-    receive_offsets[r] = offset;
-    offset += receive_counts[r];
+  check_failures(s.comm, s.rank, s.size);
+  try {
+    return body();
+  } catch (const std::bad_alloc&) {
+    abort(fmt::format("process {} of {}: out of memory (std::bad_alloc) in an exchange between processes; use a "
+                      "coarser domain.dx, or spread the run over more processes and machines",
+                      s.rank, s.size),
+          1);
   }
-  std::string receive_buffer(total_receive, '\0');
-  MPI_Alltoallv(send_buffer.data(), send_counts.data(), send_offsets.data(), MPI_BYTE, receive_buffer.data(),
-                receive_counts.data(), receive_offsets.data(), MPI_BYTE, s.comm);
+}
 
-  std::vector<std::string> received(n);
-  for (std::size_t r = 0; r < n; ++r)
-    received[r] = r == me ? send[r]
-                          : receive_buffer.substr(static_cast<std::size_t>(receive_offsets[r]), receive_bytes[r]);
-  return received;
+Failure MpiCommunicator::fail(const std::string& message, int kind) const {
+  const State& s = *state_;
+  const int mine = 1;
+  int any = 0;
+  MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, s.comm);  // the others' check_failures
+  Failure f;
+  f.process = s.rank;
+  f.processes = s.size;
+  f.kind = kind;
+  f.message = message.empty() ? std::string("an error without a message") : message;
+  return first_failure(s.comm, s.rank, s.size, &f);
+}
+
+std::vector<std::string> MpiCommunicator::exchange(const std::vector<std::string>& send) const {
+  return collective([&]() -> std::vector<std::string> {
+    const State& s = *state_;
+    const auto n = static_cast<std::size_t>(s.size);
+    const auto me = static_cast<std::size_t>(s.rank);
+    if (send.size() != n)
+      throw std::invalid_argument(fmt::format("exchange: {} parts to send on process {}; expected one per process ({})",
+                                              send.size(), s.rank, s.size));
+    // Our own part does not travel.
+    std::vector<std::uint64_t> send_bytes(n), receive_bytes(n);
+    for (std::size_t r = 0; r < n; ++r) send_bytes[r] = r == me ? 0 : send[r].size();
+    MPI_Alltoall(send_bytes.data(), 1, MPI_UINT64_T, receive_bytes.data(), 1, MPI_UINT64_T, s.comm);
+    const std::uint64_t total_send = std::accumulate(send_bytes.begin(), send_bytes.end(), std::uint64_t{0});
+    const std::uint64_t total_receive = std::accumulate(receive_bytes.begin(), receive_bytes.end(), std::uint64_t{0});
+    std::string error;
+    if (total_send > max_count || total_receive > max_count)
+      error = fmt::format(
+          "exchange: process {} sends {} bytes and receives {}; MPI counts the bytes of one exchange in int, at most {} "
+          "each way: send them in smaller pieces",
+          s.rank, total_send, total_receive, max_count);
+    if (auto e = first_error(s.comm, s.rank, s.size, error)) throw std::length_error(*e);
+
+    std::vector<int> send_counts(n), send_offsets(n), receive_counts(n), receive_offsets(n);
+    std::string send_buffer;
+    send_buffer.reserve(total_send);
+    int offset = 0;
+    for (std::size_t r = 0; r < n; ++r) {
+      send_counts[r] = static_cast<int>(send_bytes[r]);
+      send_offsets[r] = static_cast<int>(send_buffer.size());
+      if (r != me) send_buffer += send[r];
+      receive_counts[r] = static_cast<int>(receive_bytes[r]);
+      receive_offsets[r] = offset;
+      offset += receive_counts[r];
+    }
+    std::string receive_buffer(total_receive, '\0');
+    MPI_Alltoallv(send_buffer.data(), send_counts.data(), send_offsets.data(), MPI_BYTE, receive_buffer.data(),
+                  receive_counts.data(), receive_offsets.data(), MPI_BYTE, s.comm);
+
+    std::vector<std::string> received(n);
+    for (std::size_t r = 0; r < n; ++r)
+      received[r] = r == me ? send[r]
+                            : receive_buffer.substr(static_cast<std::size_t>(receive_offsets[r]), receive_bytes[r]);
+    return received;
+  });
 }
 
 std::vector<std::string> MpiCommunicator::gather(const std::string& part) const {
-  const State& s = *state_;
-  const auto n = static_cast<std::size_t>(s.size);
-  // Every process learns every size (not only the root), so that all of them see the same total and
-  // agree on the error below without another message.
-  const std::uint64_t mine = part.size();
-  std::vector<std::uint64_t> bytes(n);
-  MPI_Allgather(&mine, 1, MPI_UINT64_T, bytes.data(), 1, MPI_UINT64_T, s.comm);
-  const std::uint64_t total = std::accumulate(bytes.begin(), bytes.end(), std::uint64_t{0});
-  if (total > max_count)
-    throw std::length_error(fmt::format(
-        "gather: {} bytes for process 0; MPI counts the bytes of one gather in int, at most {}: gather them in "
-        "smaller pieces",
-        total, max_count));
+  return collective([&]() -> std::vector<std::string> {
+    const State& s = *state_;
+    const auto n = static_cast<std::size_t>(s.size);
+    // Every process learns every size (not only the root), so that all of them see the same total and
+    // agree on the error below without another message.
+    const std::uint64_t mine = part.size();
+    std::vector<std::uint64_t> bytes(n);
+    MPI_Allgather(&mine, 1, MPI_UINT64_T, bytes.data(), 1, MPI_UINT64_T, s.comm);
+    const std::uint64_t total = std::accumulate(bytes.begin(), bytes.end(), std::uint64_t{0});
+    if (total > max_count)
+      throw std::length_error(fmt::format(
+          "gather: {} bytes for process 0; MPI counts the bytes of one gather in int, at most {}: gather them in "
+          "smaller pieces",
+          total, max_count));
 
-  std::vector<int> counts(n), offsets(n);
-  int offset = 0;
-  for (std::size_t r = 0; r < n; ++r) {
-    counts[r] = static_cast<int>(bytes[r]);
-    offsets[r] = offset;
-    offset += counts[r];
-  }
-  std::string buffer(s.rank == 0 ? total : 0, '\0');
-  MPI_Gatherv(part.data(), static_cast<int>(mine), MPI_BYTE, buffer.data(), counts.data(), offsets.data(), MPI_BYTE,
-              0, s.comm);
-  if (s.rank != 0) return {};
-  std::vector<std::string> parts(n);
-  for (std::size_t r = 0; r < n; ++r) parts[r] = buffer.substr(static_cast<std::size_t>(offsets[r]), bytes[r]);
-  return parts;
+    std::vector<int> counts(n), offsets(n);
+    int offset = 0;
+    for (std::size_t r = 0; r < n; ++r) {
+      counts[r] = static_cast<int>(bytes[r]);
+      offsets[r] = offset;
+      offset += counts[r];
+    }
+    std::string buffer(s.rank == 0 ? total : 0, '\0');
+    MPI_Gatherv(part.data(), static_cast<int>(mine), MPI_BYTE, buffer.data(), counts.data(), offsets.data(), MPI_BYTE,
+                0, s.comm);
+    if (s.rank != 0) return {};
+    std::vector<std::string> parts(n);
+    for (std::size_t r = 0; r < n; ++r) parts[r] = buffer.substr(static_cast<std::size_t>(offsets[r]), bytes[r]);
+    return parts;
+  });
 }
 
 std::string MpiCommunicator::broadcast(const std::string& from_root) const {
-  const State& s = *state_;
-  std::uint64_t bytes = s.rank == 0 ? from_root.size() : 0;
-  MPI_Bcast(&bytes, 1, MPI_UINT64_T, 0, s.comm);
-  if (bytes > max_count)
-    throw std::length_error(fmt::format(
-        "broadcast: {} bytes; MPI counts the bytes of one broadcast in int, at most {}: send them in smaller pieces",
-        bytes, max_count));
-  std::string bytes_of_root = s.rank == 0 ? from_root : std::string(bytes, '\0');
-  MPI_Bcast(bytes_of_root.data(), static_cast<int>(bytes), MPI_BYTE, 0, s.comm);
-  return bytes_of_root;
+  return collective([&]() -> std::string {
+    const State& s = *state_;
+    std::uint64_t bytes = s.rank == 0 ? from_root.size() : 0;
+    MPI_Bcast(&bytes, 1, MPI_UINT64_T, 0, s.comm);
+    if (bytes > max_count)
+      throw std::length_error(fmt::format(
+          "broadcast: {} bytes; MPI counts the bytes of one broadcast in int, at most {}: send them in smaller pieces",
+          bytes, max_count));
+    std::string bytes_of_root = s.rank == 0 ? from_root : std::string(bytes, '\0');
+    MPI_Bcast(bytes_of_root.data(), static_cast<int>(bytes), MPI_BYTE, 0, s.comm);
+    return bytes_of_root;
+  });
 }
 
 std::vector<DomainBox> MpiCommunicator::partition(int dimension, const std::vector<std::array<double, 3>>& points,
-                                                  const std::vector<double>& weights) const {
-  const State& s = *state_;
-  const auto n = static_cast<std::size_t>(s.size);
+                                                  const std::vector<double>& weights) const {  return collective([&]() -> std::vector<DomainBox> {
+    const State& s = *state_;
+    const auto n = static_cast<std::size_t>(s.size);
 
-  // Every process checks its own input; all throw the first process's complaint, or all go on.
-  std::string error = partition_input_error(s.rank, dimension, points, weights);
-  if (error.empty()) {
-    int dims[2] = {dimension, -dimension};
-    MPI_Allreduce(MPI_IN_PLACE, dims, 2, MPI_INT, MPI_MIN, s.comm);
-    if (dims[0] != -dims[1])
-      error = fmt::format("partition: dimension {} on some processes and {} on others; expected the same on all",
-                          dims[0], -dims[1]);
-  } else {
-    // Take part in the other processes' check of the dimensions all the same.
-    int dims[2] = {INT_MAX, INT_MAX};
-    MPI_Allreduce(MPI_IN_PLACE, dims, 2, MPI_INT, MPI_MIN, s.comm);
-  }
-  if (auto e = first_error(s.comm, s.rank, s.size, error)) throw std::invalid_argument(*e);
+    // Every process checks its own input; all throw the first process's complaint, or all go on.
+    std::string error = partition_input_error(s.rank, dimension, points, weights);
+    if (error.empty()) {
+      int dims[2] = {dimension, -dimension};
+      MPI_Allreduce(MPI_IN_PLACE, dims, 2, MPI_INT, MPI_MIN, s.comm);
+      if (dims[0] != -dims[1])
+        error = fmt::format("partition: dimension {} on some processes and {} on others; expected the same on all",
+                            dims[0], -dims[1]);
+    } else {
+      // Take part in the other processes' check of the dimensions all the same.
+      int dims[2] = {INT_MAX, INT_MAX};
+      MPI_Allreduce(MPI_IN_PLACE, dims, 2, MPI_INT, MPI_MIN, s.comm);
+    }
+    if (auto e = first_error(s.comm, s.rank, s.size, error)) throw std::invalid_argument(*e);
 
-  // Zoltan's weights are floats. Their total is only compared with 0 (a sum of numbers >= 0 is 0
-  // whatever its order).
-  std::vector<float> float_weights(weights.size());
-  std::transform(weights.begin(), weights.end(), float_weights.begin(), [](double w) { return static_cast<float>(w); });
-  double totals[2] = {std::accumulate(float_weights.begin(), float_weights.end(), 0.0),
-                      static_cast<double>(points.size())};
-  MPI_Allreduce(MPI_IN_PLACE, totals, 2, MPI_DOUBLE, MPI_SUM, s.comm);
-  const bool unit_weights = totals[0] == 0.0;
-  const bool no_points = totals[1] == 0.0;
+    // Zoltan's weights are floats. Their total is only compared with 0 (a sum of numbers >= 0 is 0
+    // whatever its order).
+    std::vector<float> float_weights(weights.size());
+    std::transform(weights.begin(), weights.end(), float_weights.begin(), [](double w) { return static_cast<float>(w); });
+    double totals[2] = {std::accumulate(float_weights.begin(), float_weights.end(), 0.0),
+                        static_cast<double>(points.size())};
+    MPI_Allreduce(MPI_IN_PLACE, totals, 2, MPI_DOUBLE, MPI_SUM, s.comm);
+    const bool unit_weights = totals[0] == 0.0;
+    const bool no_points = totals[1] == 0.0;
 
-  if (s.size == 1) return {all_of_space()};
-  if (no_points) {
-    // All the cuts at +infinity: box 0 is everything, the others are empty.
-    std::vector<DomainBox> boxes(n, all_of_space());
-    for (std::size_t r = 1; r < n; ++r) boxes[r].lower[0] = std::numeric_limits<double>::infinity();
-    for (std::size_t r = 0; r + 1 < n; ++r) boxes[r].upper[0] = std::numeric_limits<double>::infinity();
-    return boxes;
-  }
+    if (s.size == 1) return {all_of_space()};
+    if (no_points) {
+      // All the cuts at +infinity: box 0 is everything, the others are empty.
+      std::vector<DomainBox> boxes(n, all_of_space());
+      for (std::size_t r = 1; r < n; ++r) boxes[r].lower[0] = std::numeric_limits<double>::infinity();
+      for (std::size_t r = 0; r + 1 < n; ++r) boxes[r].upper[0] = std::numeric_limits<double>::infinity();
+      return boxes;
+    }
 
-  initialize_zoltan();
-  ZoltanInput input;
-  input.points = &points;
-  input.dimension = dimension;
-  input.rank = static_cast<ZOLTAN_ID_TYPE>(s.rank);
-  input.weights = unit_weights ? std::vector<float>(points.size(), 1.0f) : std::move(float_weights);
+    initialize_zoltan();
+    ZoltanInput input;
+    input.points = &points;
+    input.dimension = dimension;
+    input.rank = static_cast<ZOLTAN_ID_TYPE>(s.rank);
+    input.weights = unit_weights ? std::vector<float>(points.size(), 1.0f) : std::move(float_weights);
 
-  std::unique_ptr<Zoltan_Struct, ZoltanDestroy> zz(Zoltan_Create(s.comm));
-  if (!zz) throw std::runtime_error("Zoltan: Zoltan_Create failed");
-  Zoltan_Struct* z = zz.get();
-  // Nothing on standard output (the run's own output is there).
-  set_zoltan_param(z, "DEBUG_LEVEL", "0");
-  set_zoltan_param(z, "LB_METHOD", "RCB");
-  set_zoltan_param(z, "LB_APPROACH", "PARTITION");
-  set_zoltan_param(z, "NUM_GLOBAL_PARTS", std::to_string(s.size));
-  set_zoltan_param(z, "NUM_GID_ENTRIES", "2");
-  set_zoltan_param(z, "NUM_LID_ENTRIES", "1");
-  set_zoltan_param(z, "OBJ_WEIGHT_DIM", "1");
-  // The boxes are all we want: no lists of objects to move.
-  set_zoltan_param(z, "RETURN_LISTS", "NONE");
-  // Keep the tree of cuts, which Zoltan_RCB_Box and Zoltan_RCB_Partition_Tree read.
-  set_zoltan_param(z, "KEEP_CUTS", "1");
-  // Part r is the same region whichever process held which points before (no renumbering of the
-  // parts to keep points where they are), and the median search is the deterministic bisection.
-  set_zoltan_param(z, "REMAP", "0");
-  set_zoltan_param(z, "RANDOM_PIVOTS", "0");
-  // Zoltan's own check of its input and output costs more passes and reductions per call; the input
-  // is checked above, and the boxes are checked by rebuilding them (tiling_boxes).
-  set_zoltan_param(z, "CHECK_GEOM", "0");
-  // Points at the same coordinate stay on one side of a cut, and the cut is halfway between the
-  // nearest points on its two sides: a lattice is cut between two of its rows, not through one, and
-  // the boxes (lower <= x < upper) give every point the part Zoltan balanced it into.
-  set_zoltan_param(z, "RCB_RECTILINEAR_BLOCKS", "1");
-  set_zoltan_param(z, "AVERAGE_CUTS", "1");
-  zoltan_check(Zoltan_Set_Num_Obj_Fn(z, &zoltan_object_count, &input), "Zoltan_Set_Num_Obj_Fn");
-  zoltan_check(Zoltan_Set_Obj_List_Fn(z, &zoltan_objects, &input), "Zoltan_Set_Obj_List_Fn");
-  zoltan_check(Zoltan_Set_Num_Geom_Fn(z, &zoltan_dimension, &input), "Zoltan_Set_Num_Geom_Fn");
-  zoltan_check(Zoltan_Set_Geom_Multi_Fn(z, &zoltan_coordinates, &input), "Zoltan_Set_Geom_Multi_Fn");
+    std::unique_ptr<Zoltan_Struct, ZoltanDestroy> zz(Zoltan_Create(s.comm));
+    if (!zz) throw std::runtime_error("Zoltan: Zoltan_Create failed");
+    Zoltan_Struct* z = zz.get();
+    // Nothing on standard output (the run's own output is there).
+    set_zoltan_param(z, "DEBUG_LEVEL", "0");
+    set_zoltan_param(z, "LB_METHOD", "RCB");
+    set_zoltan_param(z, "LB_APPROACH", "PARTITION");
+    set_zoltan_param(z, "NUM_GLOBAL_PARTS", std::to_string(s.size));
+    set_zoltan_param(z, "NUM_GID_ENTRIES", "2");
+    set_zoltan_param(z, "NUM_LID_ENTRIES", "1");
+    set_zoltan_param(z, "OBJ_WEIGHT_DIM", "1");
+    // The boxes are all we want: no lists of objects to move.
+    set_zoltan_param(z, "RETURN_LISTS", "NONE");
+    // Keep the tree of cuts, which Zoltan_RCB_Box and Zoltan_RCB_Partition_Tree read.
+    set_zoltan_param(z, "KEEP_CUTS", "1");
+    // Part r is the same region whichever process held which points before (no renumbering of the
+    // parts to keep points where they are), and the median search is the deterministic bisection.
+    set_zoltan_param(z, "REMAP", "0");
+    set_zoltan_param(z, "RANDOM_PIVOTS", "0");
+    // Zoltan's own check of its input and output costs more passes and reductions per call; the input
+    // is checked above, and the boxes are checked by rebuilding them (tiling_boxes).
+    set_zoltan_param(z, "CHECK_GEOM", "0");
+    // Points at the same coordinate stay on one side of a cut, and the cut is halfway between the
+    // nearest points on its two sides: a lattice is cut between two of its rows, not through one, and
+    // the boxes (lower <= x < upper) give every point the part Zoltan balanced it into.
+    set_zoltan_param(z, "RCB_RECTILINEAR_BLOCKS", "1");
+    set_zoltan_param(z, "AVERAGE_CUTS", "1");
+    zoltan_check(Zoltan_Set_Num_Obj_Fn(z, &zoltan_object_count, &input), "Zoltan_Set_Num_Obj_Fn");
+    zoltan_check(Zoltan_Set_Obj_List_Fn(z, &zoltan_objects, &input), "Zoltan_Set_Obj_List_Fn");
+    zoltan_check(Zoltan_Set_Num_Geom_Fn(z, &zoltan_dimension, &input), "Zoltan_Set_Num_Geom_Fn");
+    zoltan_check(Zoltan_Set_Geom_Multi_Fn(z, &zoltan_coordinates, &input), "Zoltan_Set_Geom_Multi_Fn");
 
-  int changes = 0, global_id_size = 0, local_id_size = 0, imports = 0, exports = 0;
-  ZOLTAN_ID_PTR import_global = nullptr, import_local = nullptr, export_global = nullptr, export_local = nullptr;
-  int *import_procs = nullptr, *import_parts = nullptr, *export_procs = nullptr, *export_parts = nullptr;
-  const int status =
-      Zoltan_LB_Partition(z, &changes, &global_id_size, &local_id_size, &imports, &import_global, &import_local,
-                          &import_procs, &import_parts, &exports, &export_global, &export_local, &export_procs,
-                          &export_parts);
-  Zoltan_LB_Free_Part(&import_global, &import_local, &import_procs, &import_parts);
-  Zoltan_LB_Free_Part(&export_global, &export_local, &export_procs, &export_parts);
-  zoltan_check(status, "Zoltan_LB_Partition");
+    int changes = 0, global_id_size = 0, local_id_size = 0, imports = 0, exports = 0;
+    ZOLTAN_ID_PTR import_global = nullptr, import_local = nullptr, export_global = nullptr, export_local = nullptr;
+    int *import_procs = nullptr, *import_parts = nullptr, *export_procs = nullptr, *export_parts = nullptr;
+    const int status =
+        Zoltan_LB_Partition(z, &changes, &global_id_size, &local_id_size, &imports, &import_global, &import_local,
+                            &import_procs, &import_parts, &exports, &export_global, &export_local, &export_procs,
+                            &export_parts);
+    Zoltan_LB_Free_Part(&import_global, &import_local, &import_procs, &import_parts);
+    Zoltan_LB_Free_Part(&export_global, &export_local, &export_procs, &export_parts);
+    zoltan_check(status, "Zoltan_LB_Partition");
 
-  return tiling_boxes(z, s.size, dimension);
+    return tiling_boxes(z, s.size, dimension);
+  });
 }
 
 void MpiCommunicator::abort(const std::string& message, int status) const {

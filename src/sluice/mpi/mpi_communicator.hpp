@@ -53,10 +53,17 @@ class MpiCommunicator final : public Communicator {
   [[nodiscard]] std::vector<DomainBox> partition(int dimension, const std::vector<std::array<double, 3>>& points,
                                                  const std::vector<double>& weights) const override;
 
+  [[nodiscard]] Failure fail(const std::string& message, int kind) const override;
+
   // "sluice: error: <message>" on standard error, then MPI_Abort of every process with `status`.
   [[noreturn]] void abort(const std::string& message, int status) const override;
 
  private:
+  // A collective call's body, run after the check for a failed process (fail()). Out of memory inside
+  // it stops every process: the others are in this call, waiting for this process's part.
+  template <class F>
+  auto collective(F&& body) const;
+
   struct State;
   std::unique_ptr<State> state_;
 };

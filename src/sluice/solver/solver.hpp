@@ -154,8 +154,11 @@ class Solver {
   [[nodiscard]] Health check_health(std::size_t max_reported) const;
 
   // Returns to the state at the start of the last step (if it got far enough to change anything),
-  // for the instability guard.
+  // for the instability guard and after a failure mid-step; drops the ghosts of a step cut short.
   void restore_saved_state();
+  // The last step saved its starting state (it got as far as changing the particles): cleared when a
+  // step starts, set once its first evaluation is done.
+  [[nodiscard]] bool has_saved_state() const { return has_saved_state_; }
 
  private:
   void init(const Case& c);

@@ -390,8 +390,8 @@ Health Solver<Dim>::check_health(std::size_t max_reported) const {
 // of them alike), so that a restart from the state saved then continues as the step did.
 template <int Dim>
 void Solver<Dim>::restore_saved_state() {
-  if (!has_saved_state_) return;
   strip_ghosts();
+  if (!has_saved_state_) return;
   Particles<Dim>& p = particles_;
   p.position = p.position_start;
   p.velocity = p.velocity_start;
