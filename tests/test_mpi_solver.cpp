@@ -219,6 +219,7 @@ TEST(Distributed, AProcessThatFailsMidStepStopsAllAndTheLastGoodStateIsSaved) {
   EXPECT_NE(error.find("out of memory"), std::string::npos) << error;
   EXPECT_NE(error.find("--restart"), std::string::npos) << error;
   if (!world->is_root()) return;
+  std::fprintf(stderr, "The error as a user sees it:\n%s\n", error.c_str());
   const Checkpoint cp = read_checkpoint(dir / "checkpoint.bin");
   EXPECT_GT(cp.clock.step, 30);
   EXPECT_LT(cp.clock.step, 150);
