@@ -2,8 +2,13 @@
 //
 // `bin` computes each particle's cell and a stable order that sorts particles by cell; the caller
 // reorders the particle arrays with it, after which the particles of cell c are the contiguous
-// index range [cell_start[c], cell_start[c+1]). Cells are numbered with x fastest, so the 3 cells
-// of a row around a particle are one contiguous range: a 2D query visits 3 ranges, a 3D query 9.
+// index range [cell_start[c], cell_start[c+1]). Cells are numbered along the grid's axes, the first
+// fastest, so the 3 cells of a row around a particle are one contiguous range: a 2D query visits 3
+// ranges, a 3D query 9. The grid's last (slowest) axis is the space axis with the most cells, the
+// others follow in x, y, z order; a tie keeps that order. Threads share the pair loop by bands of
+// cells along that last axis (band_cells), so the longest axis gives the most bands: a dam break
+// spreads along its tank, which holds many more columns of cells than it holds water rows. (The
+// names below say x, y, z for the grid's axes 0, 1, 2.)
 #pragma once
 
 #include <algorithm>
@@ -26,12 +31,22 @@ class CellGrid {
   // The grid covers [lower, upper]; particles outside are clamped into the edge cells, which keeps
   // the search correct (distances are always checked) if one strays.
   CellGrid(const std::array<double, Dim>& lower, const std::array<double, Dim>& upper, double cell_size)
-      : lower_(lower), cell_size_(cell_size), inv_cell_size_(1.0 / cell_size) {
+      : cell_size_(cell_size), inv_cell_size_(1.0 / cell_size) {
     if (!(cell_size > 0.0)) throw std::invalid_argument("CellGrid: cell size must be positive");
+    std::array<int, Dim> cells{};
+    for (int d = 0; d < Dim; ++d) cells[d] = std::max(1, static_cast<int>(std::ceil((upper[d] - lower[d]) * inv_cell_size_)));
+    // The slowest axis: the one with the most cells (the last of equals).
+    int slowest = Dim - 1;
+    for (int d = Dim - 2; d >= 0; --d)
+      if (cells[d] > cells[slowest]) slowest = d;
+    for (int d = 0, k = 0; d < Dim; ++d)
+      if (d != slowest) axis_[k++] = d;
+    axis_[Dim - 1] = slowest;
     std::size_t total = 1;
-    for (int d = 0; d < Dim; ++d) {
-      count_[d] = std::max(1, static_cast<int>(std::ceil((upper[d] - lower[d]) * inv_cell_size_)));
-      total *= static_cast<std::size_t>(count_[d]);
+    for (int k = 0; k < Dim; ++k) {
+      count_[k] = cells[axis_[k]];
+      lower_[k] = lower[axis_[k]];
+      total *= static_cast<std::size_t>(count_[k]);
     }
     if (total > (std::size_t{1} << 31)) throw std::invalid_argument("CellGrid: domain too large for the cell size");
     cell_start_.assign(total + 1, 0);
@@ -39,13 +54,13 @@ class CellGrid {
 
   [[nodiscard]] double cell_size() const { return cell_size_; }
   [[nodiscard]] std::size_t cell_count() const { return cell_start_.size() - 1; }
-  [[nodiscard]] int count(int d) const { return count_[d]; }
+  // Cells along space axis d (x, y or z).
+  [[nodiscard]] int count(int d) const { return count_[grid_axis(d)]; }
+  // The space axis of grid axis k (k = 0 is the fastest, Dim - 1 the band axis).
+  [[nodiscard]] int axis(int k) const { return axis_[k]; }
 
-  // Cell coordinates of a point along dimension d, clamped to the grid.
-  [[nodiscard]] int coordinate(double x, int d) const {
-    const double c = std::floor((x - lower_[d]) * inv_cell_size_);
-    return static_cast<int>(std::clamp(c, 0.0, static_cast<double>(count_[d] - 1)));
-  }
+  // Cell coordinate of a point's component x along space axis d, clamped to the grid.
+  [[nodiscard]] int coordinate(double x, int d) const { return grid_coordinate(x, grid_axis(d)); }
 
   // Computes cell indices and the counting-sort order. After the caller permutes the particles
   // with `order()`, call nothing else: cell_start() and cell_of() already describe the sorted set.
@@ -67,7 +82,8 @@ class CellGrid {
       std::uint32_t* __restrict count = cursor_.data() + static_cast<std::size_t>(t) * cells;
       for (long i = begin; i < end; ++i) {
         std::uint32_t c = 0;
-        for (int d = Dim - 1; d >= 0; --d) c = c * static_cast<std::uint32_t>(count_[d]) + coordinate(position[d][i], d);
+        for (int k = Dim - 1; k >= 0; --k)
+          c = c * static_cast<std::uint32_t>(count_[k]) + grid_coordinate(position[axis_[k]][i], k);
         cell_of_[i] = c;
         ++count[c];
       }
@@ -160,10 +176,10 @@ class CellGrid {
   template <class F>
   void for_each_range_in_box(const std::array<double, Dim>& lower, const std::array<double, Dim>& upper,
                              F&& f) const {
-    std::array<int, Dim> lo{}, hi{};
-    for (int d = 0; d < Dim; ++d) {
-      lo[d] = coordinate(lower[d], d);
-      hi[d] = coordinate(upper[d], d);
+    std::array<int, Dim> lo{}, hi{};  // along the grid's axes
+    for (int k = 0; k < Dim; ++k) {
+      lo[k] = grid_coordinate(lower[axis_[k]], k);
+      hi[k] = grid_coordinate(upper[axis_[k]], k);
     }
     std::array<int, Dim> at = lo;
     while (true) {
@@ -243,6 +259,22 @@ class CellGrid {
   // processed at the same time without two of them writing to the same particle.
   [[nodiscard]] std::size_t band_count() const { return static_cast<std::size_t>(count_[Dim - 1]); }
  private:
+  [[nodiscard]] int grid_axis(int d) const {
+    int k = 0;
+    while (axis_[k] != d) ++k;
+    return k;
+  }
+  [[nodiscard]] int grid_coordinate(double x, int k) const {
+    const double c = std::floor((x - lower_[k]) * inv_cell_size_);
+    return static_cast<int>(std::clamp(c, 0.0, static_cast<double>(count_[k] - 1)));
+  }
+
+  // Along the grid's axes (k = 0 fastest): the space axis, the lower corner and the number of cells.
+  std::array<int, Dim> axis_ = [] {
+    std::array<int, Dim> a{};
+    for (int d = 0; d < Dim; ++d) a[d] = d;
+    return a;
+  }();
   std::array<double, Dim> lower_{};
   std::array<int, Dim> count_{};
   double cell_size_ = 1.0;
