@@ -1,6 +1,7 @@
 // The pair loop and the Shepard filter for one instruction set: Highway's foreach_target compiles
-// this text once per target (physics/pair_loop.cpp), in the namespace sluice::HWY_NAMESPACE, with the
-// kernel shapes, the pair terms and the WCSPH pair included for that target's vectors.
+// this text once per target (physics/pair_loop_*.cpp, a dimension and precision each), in the
+// namespace sluice::HWY_NAMESPACE, with the kernel shapes, the pair terms and the WCSPH pair included
+// for that target's vectors.
 //
 // The traversal: each pair is evaluated once. The particles of a cell share their forward candidates
 // (CellGrid::forward_ranges: the rest of their own row of cells and the rows after it), which are
@@ -342,37 +343,36 @@ void shepard_loop(Particles<Dim>& p, const CellGrid<Dim>& grid, double h, double
   p.density.swap(out);
 }
 
-// The table of this target's loops, one per kernel, wall treatment and artificial pressure switch.
-template <int Dim, std::size_t K, std::size_t W>
+// The loops of one kernel and wall pair traits with pairs in precision R, entered in the table; with
+// R = double, the kernel's Shepard filter and shifting sums too (those are in double precision only).
+template <int Dim, class R, std::size_t K, std::size_t W>
 void add_rate_loops(DimensionLoops<Dim>& loops) {
   using Kernel = std::variant_alternative_t<K, AnyKernel<Dim>>;
   using Walls = std::variant_alternative_t<W, PairWallTraits>;
-  loops.rates[K][W][0][0] = &rate_loop<Dim, Kernel, Walls, false, double>;
-  loops.rates[K][W][1][0] = &rate_loop<Dim, Kernel, Walls, true, double>;
-  loops.rates[K][W][0][1] = &rate_loop<Dim, Kernel, Walls, false, float>;
-  loops.rates[K][W][1][1] = &rate_loop<Dim, Kernel, Walls, true, float>;
-  if constexpr (W == 0) {
+  constexpr std::size_t single = std::is_same_v<R, float> ? 1 : 0;
+  loops.rates[K][W][0][single] = &rate_loop<Dim, Kernel, Walls, false, R>;
+  loops.rates[K][W][1][single] = &rate_loop<Dim, Kernel, Walls, true, R>;
+  if constexpr (W == 0 && single == 0) {
     loops.shepard[K] = &shepard_loop<Dim, Kernel>;
     loops.shifting[K] = &shifting_loop<Dim, Kernel>;
   }
 }
 
-template <int Dim, std::size_t K, std::size_t... W>
+template <int Dim, class R, std::size_t K, std::size_t... W>
 void add_kernel_loops(DimensionLoops<Dim>& loops, std::index_sequence<W...>) {
-  (add_rate_loops<Dim, K, W>(loops), ...);
+  (add_rate_loops<Dim, R, K, W>(loops), ...);
 }
 
-template <int Dim, std::size_t... K>
-DimensionLoops<Dim> dimension_loops(std::index_sequence<K...>) {
-  DimensionLoops<Dim> loops{};
-  (add_kernel_loops<Dim, K>(loops, std::make_index_sequence<kPairWallTraits>{}), ...);
-  return loops;
-}
-
-inline const RateLoops* target_rate_loops() {
-  static const RateLoops loops{hwy::TargetName(HWY_TARGET), dimension_loops<2>(std::make_index_sequence<kKernels>{}),
-                                dimension_loops<3>(std::make_index_sequence<kKernels>{})};
-  return &loops;
+// This target's loops of one dimension with pairs in precision R (double or float), entered in its
+// table: one per kernel, wall pair traits and artificial-pressure switch, and with R = double the
+// Shepard filters and shifting sums. Each dimension and precision is instantiated in a file of its own
+// (physics/pair_loop_{2d,3d}_{double,single}.cpp), so that the four compile side by side;
+// physics/pair_loop.cpp puts each target's table together.
+template <int Dim, class R>
+void add_loops(DimensionLoops<Dim>& loops) {
+  [&]<std::size_t... K>(std::index_sequence<K...>) {
+    (add_kernel_loops<Dim, R, K>(loops, std::make_index_sequence<kPairWallTraits>{}), ...);
+  }(std::make_index_sequence<kKernels>{});
 }
 
 }  // namespace sluice::HWY_NAMESPACE

@@ -1,7 +1,8 @@
-// The table of compiled pair loops of one instruction set (physics/pair_loop-inl.hpp builds one per
-// target; physics/pair_loop.cpp picks the CPU's best): a function per dimension, kernel, wall pair
-// traits and artificial-pressure switch, and a Shepard filter and the sums of particle shifting
-// per dimension and kernel.
+// The table of compiled pair loops of one instruction set (physics/pair_loop-inl.hpp enters them,
+// a dimension and precision at a time; physics/pair_loop.cpp puts each target's table together and
+// picks the CPU's best): a function per dimension, kernel, wall pair traits, artificial-pressure
+// switch and precision of the pairs, and a Shepard filter and the sums of particle shifting per
+// dimension and kernel.
 #pragma once
 
 #include <array>

@@ -1,7 +1,7 @@
 // Wall treatments as policies. A policy says what the pair loop does between fluid and wall particles
 // (its traits, read by the WCSPH pair of physics/wcsph_pair-inl.hpp) and what happens to the wall
 // particles before and after the rates are computed. The pair loop is compiled for each policy of
-// WallTreatment (physics/pair_loop.cpp).
+// WallTreatment (physics/pair_loop-inl.hpp).
 //
 // A new wall treatment is a policy here, an alternative of WallTreatment (and of the case's
 // WallBoundary choice), and — if it changes a pair term — its trait in WallPairTraits, read in

@@ -1,6 +1,6 @@
 // The definitions of Solver<Dim>, compiled once per dimension (solver_2d.cpp, solver_3d.cpp), so
 // that the two build side by side. The pair loop is compiled apart, per instruction set
-// (physics/pair_loop.cpp).
+// (physics/pair_loop_*.cpp).
 #pragma once
 
 #include "sluice/solver/solver.hpp"
