@@ -5,7 +5,9 @@
 // and write it by name).
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <functional>
 #include <cstdint>
 #include <string_view>
 #include <tuple>
@@ -29,6 +31,8 @@ inline constexpr unsigned frame = 16;      // written in output frames, in regis
 // checkpoints while they are carried (Clock::rates_carried).
 inline constexpr unsigned carried = 32;
 inline constexpr unsigned rates_start = 64;  // moves with the reordering during a leapfrog step only
+// Recomputed after every reordering that does not move it, which may use its storage as scratch.
+inline constexpr unsigned recomputed = 128;
 }  // namespace field_role
 
 struct FieldSpec {
@@ -81,8 +85,8 @@ struct Particles {
     f(FieldSpec{"kind", "", state | checkpoint | halo | frame, "kind"}, p.kind);
     f(FieldSpec{"id", "", state | checkpoint | halo | frame, "id"}, p.id);
     f(FieldSpec{"needs_density_repair", "", state | checkpoint}, p.needs_density_repair);
-    f(FieldSpec{"acceleration", "m/s^2", carried}, p.acceleration);
-    f(FieldSpec{"density_rate", "kg/m^3/s", carried}, p.density_rate);
+    f(FieldSpec{"acceleration", "m/s^2", carried | recomputed}, p.acceleration);
+    f(FieldSpec{"density_rate", "kg/m^3/s", carried | recomputed}, p.density_rate);
     f(FieldSpec{"position_start", "m", step_start}, p.position_start);
     f(FieldSpec{"velocity_start", "m/s", step_start}, p.velocity_start);
     f(FieldSpec{"density_start", "kg/m^3", step_start}, p.density_start);
@@ -148,33 +152,96 @@ struct Particles {
   }
 
   // The same for the state and the fields with any of the roles `also` (field_role::step_start,
-  // rates_start). `scratch` holds the double fields in turn (no allocation per call).
+  // rates_start). `scratch` holds the double fields in turn (no allocation per call); so do the
+  // fields this reordering leaves behind that are recomputed after it (field_role::recomputed), whose
+  // contents are then unspecified.
+  //
+  // The copies run in one parallel region, each thread copying its static share of every field. A
+  // field's old array can take another field's copy only once every thread has finished reading it,
+  // so the copies run in rounds separated by barriers: as many fields per round as there are spare
+  // arrays of their type (on two threads a barrier costs about as much as copying a field of 80k
+  // doubles). The arrays are handed round afterwards by swaps, without copying.
   void reorder(const std::vector<std::uint32_t>& order, std::vector<double>& scratch, unsigned also, int threads) {
     const long n = static_cast<long>(size());
-    scratch.resize(static_cast<std::size_t>(n));
-    std::get<std::vector<Kind>>(scratch_).resize(static_cast<std::size_t>(n));
-    std::get<std::vector<std::uint32_t>>(scratch_).resize(static_cast<std::size_t>(n));
-    std::get<std::vector<std::uint8_t>>(scratch_).resize(static_cast<std::size_t>(n));
-    const std::uint32_t* __restrict from = order.data();
-    // One parallel region for all the fields (a region per field cost more than the copies on two
-    // threads): every thread walks the same field list, copies its static share of each field into
-    // the scratch array of the field's type, and one thread swaps it in.
-    parallel::in_team(threads, n >= parallel::light_loop_threshold, [&](const parallel::Team& team) {
-      fields(*this, [&](const FieldSpec& info, auto& field) {
-        if (!info.has(field_role::state) && !info.has(also)) return;
-        components(field, [&](auto& c) {
-          using T = typename std::remove_reference_t<decltype(c)>::value_type;
-          std::vector<T>& out_array = scratch_for<T>(scratch);
-          const T* __restrict in = c.data();
-          T* __restrict out = out_array.data();
-          team.for_each(n, [&](long k) { out[k] = in[from[k]]; });
-          team.single([&] { c.swap(out_array); });
-        });
+    const auto un = static_cast<std::size_t>(n);
+    scratch.resize(un);
+    std::get<std::vector<Kind>>(scratch_).resize(un);
+    std::get<std::vector<std::uint32_t>>(scratch_).resize(un);
+    std::get<std::vector<std::uint8_t>>(scratch_).resize(un);
+    const unsigned moved = field_role::state | also;
+
+    // The spare arrays of each type: the array that holds it (swapped into place afterwards), its
+    // data, and the first round in which it is free.
+    std::tuple<Spares<double>, Spares<Kind>, Spares<std::uint32_t>, Spares<std::uint8_t>> spares;
+    std::get<Spares<double>>(spares).push_back({&scratch, scratch.data(), 0});
+    std::apply([&](auto&... s) { (add_scratch(s), ...); }, spares);
+    fields(*this, [&](const FieldSpec& info, auto& field) {
+      if (info.has(moved) || !info.has(field_role::recomputed)) return;
+      components(field, [&](auto& c) {
+        using T = typename std::remove_reference_t<decltype(c)>::value_type;
+        if (c.size() == un) std::get<Spares<T>>(spares).push_back({&c, c.data(), 0});
       });
     });
+    // The plan: each moved component is copied into the spare array of its type that is free first;
+    // its own array becomes free in the next round.
+    std::vector<Copy> copies;
+    std::vector<std::function<void()>> swaps;
+    int rounds = 0;
+    fields(*this, [&](const FieldSpec& info, auto& field) {
+      if (!info.has(moved)) return;
+      components(field, [&](auto& c) {
+        using T = typename std::remove_reference_t<decltype(c)>::value_type;
+        Spares<T>& free = std::get<Spares<T>>(spares);
+        const auto first = std::min_element(free.begin(), free.end(),
+                                            [](const auto& a, const auto& b) { return a.round < b.round; });
+        const Spare<T> spare = *first;
+        free.erase(first);
+        copies.push_back({&copy_share<T>, c.data(), spare.data, spare.round});
+        swaps.emplace_back([holder = spare.holder, &c] { holder->swap(c); });
+        free.push_back({spare.holder, c.data(), spare.round + 1});
+        rounds = std::max(rounds, spare.round + 1);
+      });
+    });
+    const std::uint32_t* from = order.data();
+    parallel::in_team(threads, n >= parallel::light_loop_threshold, [&](const parallel::Team& team) {
+      const long begin = n * team.index() / team.size(), end = n * (team.index() + 1) / team.size();
+      for (int round = 0; round < rounds; ++round) {
+        if (round > 0) team.barrier();
+        for (const Copy& copy : copies)
+          if (copy.round == round) copy.run(copy.in, copy.out, from, begin, end);
+      }
+    });
+    for (const auto& swap : swaps) swap();
   }
 
  private:
+  template <class T>
+  struct Spare {
+    std::vector<T>* holder;
+    T* data;
+    int round;
+  };
+  template <class T>
+  using Spares = std::vector<Spare<T>>;
+  struct Copy {
+    void (*run)(const void* in, void* out, const std::uint32_t* from, long begin, long end);
+    const void* in;
+    void* out;
+    int round;
+  };
+  template <class T>
+  static void copy_share(const void* in, void* out, const std::uint32_t* from, long begin, long end) {
+    const T* __restrict src = static_cast<const T*>(in);
+    T* __restrict dst = static_cast<T*>(out);
+    for (long k = begin; k < end; ++k) dst[k] = src[from[k]];
+  }
+  template <class T>
+  void add_scratch(Spares<T>& s) {
+    if constexpr (!std::is_same_v<T, double>) {
+      std::vector<T>& v = std::get<std::vector<T>>(scratch_);
+      s.push_back({&v, v.data(), 0});
+    }
+  }
 
   template <class T>
   std::vector<T>& scratch_for(std::vector<double>& doubles) {

@@ -10,33 +10,50 @@
 
 namespace sluice {
 
+// Forward Euler on the particles [begin, end): y(n+1) = y(n) + dt f(y(n)).
+template <int Dim>
+void euler_chunk(Particles<Dim>& p, double dt, double wall_density_floor, long begin, long end) {
+  for (long i = begin; i < end; ++i) {
+    if (p.is_fluid(static_cast<std::size_t>(i))) {
+      for (int d = 0; d < Dim; ++d) {
+        p.position[d][i] += dt * p.velocity[d][i];
+        p.velocity[d][i] += dt * p.acceleration[d][i];
+      }
+      p.density[i] += dt * p.density_rate[i];
+    } else {
+      p.density[i] = std::max(p.density[i] + dt * p.density_rate[i], wall_density_floor);
+    }
+  }
+}
+
 // Forward Euler: y(n+1) = y(n) + dt f(y(n)), using the rates of the current state.
 template <int Dim>
 void euler_update(Particles<Dim>& p, double dt, double wall_density_floor, int threads) {
-  parallel::for_chunks(static_cast<long>(p.size()), threads, [&](long begin, long end) {
-    for (long i = begin; i < end; ++i) {
-      if (p.is_fluid(static_cast<std::size_t>(i))) {
-        for (int d = 0; d < Dim; ++d) {
-          p.position[d][i] += dt * p.velocity[d][i];
-          p.velocity[d][i] += dt * p.acceleration[d][i];
-        }
-        p.density[i] += dt * p.density_rate[i];
-      } else {
-        p.density[i] = std::max(p.density[i] + dt * p.density_rate[i], wall_density_floor);
-      }
-    }
-  });
+  parallel::for_chunks(static_cast<long>(p.size()), threads,
+                       [&](long begin, long end) { euler_chunk(p, dt, wall_density_floor, begin, end); });
 }
 
 // Predictor-corrector (midpoint), stage 1: remember y(n), then y(n+1/2) = y(n) + dt/2 f(y(n)).
+// Each thread copies its share of y(n) and updates it in one pass.
 template <int Dim>
 void predictor_update(Particles<Dim>& p, double dt, double wall_density_floor, int threads) {
+  const std::size_t n = p.size();
   for (int d = 0; d < Dim; ++d) {
-    p.position_start[d] = p.position[d];
-    p.velocity_start[d] = p.velocity[d];
+    p.position_start[d].resize(n);
+    p.velocity_start[d].resize(n);
   }
-  p.density_start = p.density;
-  euler_update(p, 0.5 * dt, wall_density_floor, threads);
+  p.density_start.resize(n);
+  parallel::for_chunks(static_cast<long>(n), threads, [&](long begin, long end) {
+    const auto copy = [begin, end](const std::vector<double>& from, std::vector<double>& to) {
+      std::copy(from.begin() + begin, from.begin() + end, to.begin() + begin);
+    };
+    for (int d = 0; d < Dim; ++d) {
+      copy(p.position[d], p.position_start[d]);
+      copy(p.velocity[d], p.velocity_start[d]);
+    }
+    copy(p.density, p.density_start);
+    euler_chunk(p, 0.5 * dt, wall_density_floor, begin, end);
+  });
 }
 
 // Stage 2, with the rates f(y(n+1/2)) evaluated at the half step: the corrected half step
