@@ -202,8 +202,12 @@ HWY_INLINE void for_each_pair(const Pair& pair, const CellGrid<Dim>& grid, const
     for (double* o : out) o[i] = 0.0;
   CellBlock<Dim, Pair::kOutputs, R> block;
   const long bands = static_cast<long>(grid.band_count());
+  // Each thread's extremes, combined at the end (max and min do not depend on the order; an omp
+  // reduction on the reference parameters is rejected by clang in an orphaned loop).
+  // (Every thread reads them before the loops' barriers, and writes them after.)
+  double speed2 = speed2_max, r2 = r2_min;
   for (long parity = 0; parity < 2; ++parity) {
-#pragma omp for schedule(dynamic, 1) reduction(max : speed2_max) reduction(min : r2_min)
+#pragma omp for schedule(dynamic, 1)
     for (long band = parity; band < bands; band += 2) {
       const auto [first_cell, last_cell] = grid.band_cells(static_cast<std::size_t>(band));
       for (std::uint32_t cell = first_cell; cell < last_cell; ++cell) {
@@ -223,14 +227,19 @@ HWY_INLINE void for_each_pair(const Pair& pair, const CellGrid<Dim>& grid, const
           for (int d = 0; d < Dim; ++d) xi[d] = x[d][i];
           if (fluid[i] == 0.0)
             evaluate_pairs<Dim, true>(pair, i, xi, x, fluid, static_cast<std::size_t>(n), support2, min_r2, block, out,
-                                      speed2_max, r2_min);
+                                      speed2, r2);
           else
             evaluate_pairs<Dim, false>(pair, i, xi, x, fluid, static_cast<std::size_t>(n), support2, min_r2, block,
-                                       out, speed2_max, r2_min);
+                                       out, speed2, r2);
         }
         block.finish(out);
       }
     }
+  }
+#pragma omp critical(sluice_pair_extremes)
+  {
+    speed2_max = std::max(speed2_max, speed2);
+    r2_min = std::min(r2_min, r2);
   }
 }
 
@@ -242,21 +251,41 @@ std::vector<std::uint32_t> fluid_counts(const R* fluid, long n) {
   return before;
 }
 
+// Runs body() on `threads` threads. The region's body is a function of its own, never inlined into
+// the function OpenMP outlines for the region: clang compiles that function without this target's
+// instruction set, and fails on vector code inlined into it.
+template <class Body>
+HWY_NOINLINE void team_body(const Body& body) {
+  body();
+}
+
+template <class Body>
+void in_parallel(int threads, const Body& body) {
+#pragma omp parallel num_threads(threads)
+  team_body(body);
+}
+
 // Gravity on the fluid, and the largest fluid acceleration and density.
 template <int Dim>
 HWY_INLINE void add_gravity(Particles<Dim>& p, const Vec<Dim>& g, const double* fluid, double& max_accel2,
                             double& max_rho) {
   const long n = static_cast<long>(p.size());
-#pragma omp for schedule(static) reduction(max : max_accel2, max_rho)
+  double accel2 = max_accel2, rho = max_rho;  // this thread's (see for_each_pair)
+#pragma omp for schedule(static)
   for (long i = 0; i < n; ++i) {
-    max_rho = std::max(max_rho, p.density[i]);
+    rho = std::max(rho, p.density[i]);
     if (fluid[i] == 0.0) continue;
     double a2 = 0.0;
     for (int d = 0; d < Dim; ++d) {
       p.acceleration[d][i] += g[d];
       a2 += p.acceleration[d][i] * p.acceleration[d][i];
     }
-    max_accel2 = std::max(max_accel2, a2);
+    accel2 = std::max(accel2, a2);
+  }
+#pragma omp critical(sluice_pair_extremes)
+  {
+    max_accel2 = std::max(max_accel2, accel2);
+    max_rho = std::max(max_rho, rho);
   }
 }
 
@@ -282,11 +311,10 @@ RateSummary rate_loop(Particles<Dim>& p, const CellGrid<Dim>& grid, const RateSe
   const auto fluid_before = fluid_counts(fluid, static_cast<long>(p.size()));
 
   double max_accel2 = 0.0, max_speed2 = 0.0, max_rho = 0.0, closest2 = support2;
-#pragma omp parallel num_threads(threads)
-  {
+  in_parallel(threads, [&] {
     for_each_pair<Dim>(pair, grid, x, fluid, fluid_before, support2, min_r2, out, max_speed2, closest2);
     add_gravity<Dim>(p, s.gravity, t.fluid_mask.data(), max_accel2, max_rho);
-  }
+  });
   return {std::sqrt(max_accel2), std::sqrt(max_speed2), max_rho, std::sqrt(closest2)};
 }
 
@@ -303,8 +331,9 @@ void shifting_loop(const Particles<Dim>& p, const CellGrid<Dim>& grid, const Shi
   for (int d = 0; d < Dim; ++d) x[d] = p.position[d].data();
   const auto fluid_before = fluid_counts(fluid, static_cast<long>(p.size()));
   double unused_speed2 = 0.0, unused_r2 = support2;
-#pragma omp parallel num_threads(threads)
-  for_each_pair<Dim>(pair, grid, x, fluid, fluid_before, support2, min_r2, out, unused_speed2, unused_r2);
+  in_parallel(threads, [&] {
+    for_each_pair<Dim>(pair, grid, x, fluid, fluid_before, support2, min_r2, out, unused_speed2, unused_r2);
+  });
 }
 
 template <int Dim, class Kernel>
@@ -316,30 +345,32 @@ void shepard_loop(Particles<Dim>& p, const CellGrid<Dim>& grid, double h, double
   const std::size_t size = p.size();
   const auto& cell_of = grid.cell_of();
   out.assign(p.density.begin(), p.density.end());
-#pragma omp parallel for schedule(dynamic, 512) num_threads(threads)
-  for (long i = 0; i < n; ++i) {
-    if (!p.is_fluid(static_cast<std::size_t>(i)) || (selected && (*selected)[i] == 0)) continue;
-    // Candidates a vector at a time; those outside the support have W = 0 exactly, and the lanes past
-    // the end of a range are placed outside it.
-    std::array<Pack, Dim> xi;
-    for (int d = 0; d < Dim; ++d) xi[d] = p.position[d][i];
-    const double outside = p.position[0][i] + 2.0 * Kernel::support * h;
-    Pack mass_sum = 0.0, volume_sum = 0.0;
-    for_each_range(grid.neighbor_ranges(cell_of[i]), [&](std::uint32_t begin, std::uint32_t end) {
-      for (std::uint32_t j = begin; j < end; j += static_cast<std::uint32_t>(N)) {
-        const std::size_t lanes = std::min<std::size_t>(N, end - j);
-        Pack r2 = 0.0;
-        for (int d = 0; d < Dim; ++d) {
-          const Pack dx = xi[d] - simd::load_within(p.position[d].data(), j, lanes, size, d == 0 ? outside : 0.0);
-          r2 += dx * dx;
+  in_parallel(threads, [&] {
+#pragma omp for schedule(dynamic, 512)
+    for (long i = 0; i < n; ++i) {
+      if (!p.is_fluid(static_cast<std::size_t>(i)) || (selected && (*selected)[i] == 0)) continue;
+      // Candidates a vector at a time; those outside the support have W = 0 exactly, and the lanes past
+      // the end of a range are placed outside it.
+      std::array<Pack, Dim> xi;
+      for (int d = 0; d < Dim; ++d) xi[d] = p.position[d][i];
+      const double outside = p.position[0][i] + 2.0 * Kernel::support * h;
+      Pack mass_sum = 0.0, volume_sum = 0.0;
+      for_each_range(grid.neighbor_ranges(cell_of[i]), [&](std::uint32_t begin, std::uint32_t end) {
+        for (std::uint32_t j = begin; j < end; j += static_cast<std::uint32_t>(N)) {
+          const std::size_t lanes = std::min<std::size_t>(N, end - j);
+          Pack r2 = 0.0;
+          for (int d = 0; d < Dim; ++d) {
+            const Pack dx = xi[d] - simd::load_within(p.position[d].data(), j, lanes, size, d == 0 ? outside : 0.0);
+            r2 += dx * dx;
+          }
+          const Pack w = shape::value_inside(kernel, simd::sqrt(r2));
+          mass_sum += w;
+          volume_sum += w * simd::quotient(Pack(mass), simd::load_within(p.density.data(), j, lanes, size, 1.0));
         }
-        const Pack w = shape::value_inside(kernel, simd::sqrt(r2));
-        mass_sum += w;
-        volume_sum += w * simd::quotient(Pack(mass), simd::load_within(p.density.data(), j, lanes, size, 1.0));
-      }
-    });
-    out[i] = mass * simd::reduce_add(mass_sum) / simd::reduce_add(volume_sum);
-  }
+      });
+      out[i] = mass * simd::reduce_add(mass_sum) / simd::reduce_add(volume_sum);
+    }
+  });
   p.density.swap(out);
 }
 
