@@ -29,6 +29,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <type_traits>
 #include <utility>
 #include <variant>
@@ -270,8 +271,11 @@ template <int Dim>
 HWY_INLINE void add_gravity(Particles<Dim>& p, const Vec<Dim>& g, const double* fluid, double& max_accel2,
                             double& max_rho) {
   const long n = static_cast<long>(p.size());
-  double accel2 = max_accel2, rho = max_rho;  // this thread's (see for_each_pair)
-#pragma omp for schedule(static)
+  // This thread's (see for_each_pair), from the identity of max: another thread may already be
+  // combining its own into the shared ones.
+  double accel2 = std::numeric_limits<double>::lowest(), rho = std::numeric_limits<double>::lowest();
+  // No barrier at the end: the parallel region ends right after (rate_loop).
+#pragma omp for schedule(static) nowait
   for (long i = 0; i < n; ++i) {
     rho = std::max(rho, p.density[i]);
     if (fluid[i] == 0.0) continue;
