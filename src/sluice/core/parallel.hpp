@@ -65,12 +65,6 @@ class Team {
 #pragma omp single
     g();
   }
-  // g(i) for i in [0, n), statically split over the team, with a barrier at the end.
-  template <class G>
-  void for_each(long n, G&& g) const {
-#pragma omp for schedule(static)
-    for (long i = 0; i < n; ++i) g(i);
-  }
 };
 
 // f(team) on `threads` threads (one when `parallel` is false).

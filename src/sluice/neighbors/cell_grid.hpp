@@ -103,8 +103,8 @@ class CellGrid {
       });
       for (long i = begin; i < end; ++i) order_[count[cell_of_[i]]++] = static_cast<std::uint32_t>(i);
       team.barrier();
-      // Cell of each particle in sorted order.
-      team.for_each(n, [&](long k) { sorted_cell_[k] = cell_of_[order_[k]]; });
+      // Cell of each particle in sorted order (this thread's share; the region's end is the barrier).
+      for (long k = begin; k < end; ++k) sorted_cell_[k] = cell_of_[order_[k]];
     });
     cell_of_.swap(sorted_cell_);
   }
