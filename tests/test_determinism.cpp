@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "sluice/case/params.hpp"
+#include "sluice/core/parallel.hpp"
 #include "sluice/simulation.hpp"
 
 using namespace sluice;
@@ -38,6 +39,8 @@ TEST_P(Determinism, OneAndTwoThreadsGiveBitIdenticalResults) {
     apply_override(c, "physics.shepard_every=7");  // exercise the filter too
     apply_override(c, "physics.wall_boundary=" + walls);
     Simulation one(c, 1), two(c, 2);
+    ASSERT_GE(static_cast<long>(one.particles<2>().size()), parallel::pair_loop_threshold)
+        << "too few particles for the neighbour loops to run on two threads";
     for (int s = 0; s < 150; ++s) {
       one.step();
       two.step();

@@ -14,6 +14,7 @@
 
 #include "physics_cases.hpp"
 #include "sluice/case/params.hpp"
+#include "sluice/core/parallel.hpp"
 #include "sluice/integrate/integrators.hpp"
 #include "sluice/io/checkpoint.hpp"
 #include "sluice/simulation.hpp"
@@ -182,6 +183,8 @@ TEST(Leapfrog, OneAndTwoThreadsGiveBitIdenticalResultsWithMdbcWallsAndShifting) 
   apply_override(c, "physics.wall_boundary=mdbc");
   apply_override(c, "physics.shifting=2");
   Simulation one(c, 1), two(c, 2);
+  ASSERT_GE(static_cast<long>(one.particles<2>().size()), parallel::pair_loop_threshold)
+      << "too few particles for the neighbour loops to run on two threads";
   for (int s = 0; s < 150; ++s) {
     one.step();
     two.step();

@@ -13,6 +13,12 @@ namespace sluice::parallel {
 // badly so when the machine is busy with other work.
 inline constexpr long light_loop_threshold = 20000;
 
+// The neighbour loops (forces, Shepard filter, shifting, wall extrapolation) share out work above
+// this many particles. Measured on two cores (the dam break, one thread against two, loop times):
+// two threads were slower at 2,161 and 3,365 particles (0.73x and 0.75-0.97x), even at 4,983 (0.94-
+// 0.97x), and faster from 6,736 (1.09-1.17x).
+inline constexpr long pair_loop_threshold = 6000;
+
 // f(begin, end) on contiguous chunks covering [0, n), one per thread, on `threads` threads when n is
 // at least `threshold`. The body can be a straight loop the compiler vectorises.
 template <class F>

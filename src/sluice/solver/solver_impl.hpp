@@ -138,6 +138,8 @@ RateSummary Solver<Dim>::evaluate(bool shepard_due, unsigned also_moved, bool la
   }
   grid_.bin(particles_.position, threads_);
   particles_.reorder(grid_.order(), scratch_, also_moved, threads_);
+  // The neighbour loops share out work only above a size where it pays (core/parallel.hpp).
+  const int pair_threads = static_cast<long>(particles_.size()) >= parallel::pair_loop_threshold ? threads_ : 1;
   if (dist) dist->reordered(grid_.order());
   grid_binned_ = true;
   bool repair_due = std::any_of(particles_.needs_density_repair.begin(), particles_.needs_density_repair.end(),
@@ -145,17 +147,17 @@ RateSummary Solver<Dim>::evaluate(bool shepard_due, unsigned also_moved, bool la
   if (dist) repair_due = reducer_->sum(static_cast<std::int64_t>(repair_due)) > 0;
   if (shepard_due || repair_due) {
     shepard_filter(particles_, grid_, kernel_, settings_.mass, shepard_due ? nullptr : &particles_.needs_density_repair,
-                   scratch_, threads_);
+                   scratch_, pair_threads);
     std::fill(particles_.needs_density_repair.begin(), particles_.needs_density_repair.end(), 0);
     if (dist) dist->refresh(particles_, {"density"});
   }
   std::visit([&](const auto& walls, const auto& kernel) {
-    walls.before_rates(particles_, grid_, kernel, settings_.eos, settings_.gravity, threads_);
+    walls.before_rates(particles_, grid_, kernel, settings_.eos, settings_.gravity, pair_threads);
   }, walls_, kernel_);
   if (dist && !std::holds_alternative<DynamicWalls>(walls_)) dist->refresh(particles_, {"density", "velocity"});
   terms_.compute(particles_, settings_.eos, threads_, settings_.artificial_pressure,
                  case_.pair_precision == Precision::single, pair_origin_);
-  RateSummary summary = compute_rates(particles_, grid_, kernel_, walls_, settings_, terms_, threads_);
+  RateSummary summary = compute_rates(particles_, grid_, kernel_, walls_, settings_, terms_, pair_threads);
   if (dist) {
     // A ghost's acceleration lacks the pairs beyond this process's halo: the largest is the owned
     // fluid particles' (the other maxima and the minimum distance are over real pairs and densities).
@@ -173,7 +175,7 @@ RateSummary Solver<Dim>::evaluate(bool shepard_due, unsigned also_moved, bool la
   if (last && shifting_.coefficient > 0.0) {
     std::function<void(std::vector<double>&)> refresh;
     if (dist) refresh = [dist](std::vector<double>& divergence) { dist->refresh(divergence); };
-    shift_.compute(particles_, grid_, kernel_, shifting_sums_, shifting_, terms_.fluid_mask.data(), threads_, refresh);
+    shift_.compute(particles_, grid_, kernel_, shifting_sums_, shifting_, terms_.fluid_mask.data(), pair_threads, refresh);
   }
   return summary;
 }
