@@ -7,8 +7,8 @@
 
 #include <algorithm>
 #include <array>
-#include <functional>
 #include <cstdint>
+#include <functional>
 #include <string_view>
 #include <tuple>
 #include <type_traits>
@@ -243,11 +243,6 @@ struct Particles {
     }
   }
 
-  template <class T>
-  std::vector<T>& scratch_for(std::vector<double>& doubles) {
-    if constexpr (std::is_same_v<T, double>) return doubles;
-    else return std::get<std::vector<T>>(scratch_);
-  }
   std::tuple<std::vector<Kind>, std::vector<std::uint32_t>, std::vector<std::uint8_t>> scratch_;
 };
 

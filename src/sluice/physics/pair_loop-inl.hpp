@@ -203,9 +203,9 @@ HWY_INLINE void for_each_pair(const Pair& pair, const CellGrid<Dim>& grid, const
     for (double* o : out) o[i] = 0.0;
   CellBlock<Dim, Pair::kOutputs, R> block;
   const long bands = static_cast<long>(grid.band_count());
-  // Each thread's extremes, combined at the end (max and min do not depend on the order; an omp
-  // reduction on the reference parameters is rejected by clang in an orphaned loop).
-  // (Every thread reads them before the loops' barriers, and writes them after.)
+  // Each thread's extremes, combined at the end (max and min do not depend on the order; clang
+  // rejects an omp reduction on reference parameters in an orphaned loop). Every thread reads the
+  // shared ones before the loops' barriers and writes them after.
   double speed2 = speed2_max, r2 = r2_min;
   for (long parity = 0; parity < 2; ++parity) {
 #pragma omp for schedule(dynamic, 1)
