@@ -5,7 +5,9 @@
 // compiled instruction set this CPU runs is checked, in 2D and 3D.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "sluice/core/particles.hpp"
@@ -35,7 +37,8 @@ double distance(const std::array<double, Dim>& r) {
 
 // Every ordered pair within the support, fluid i for the momentum, all i for continuity, fluid-fluid
 // pairs for density diffusion (as SPEC.md's equations and the README describe them). Fluid-wall pairs
-// have the artificial viscosity alpha * wall_alpha_factor.
+// have the artificial viscosity alpha * wall_alpha_factor, and each side's P/rho^2 at least
+// s.wall_pair_pressure_floor in their pressure term.
 template <int Dim, class Kernel>
 Reference<Dim> brute_force(const Particles<Dim>& p, const Kernel& kernel, const RateSettings<Dim>& s,
                            const ParticleTerms& t, bool with_ap, double wall_alpha_factor) {
@@ -74,7 +77,8 @@ Reference<Dim> brute_force(const Particles<Dim>& p, const Kernel& kernel, const 
                                                     p.density[j], drho_hydro, F) /
                        p.density[j];
       }
-      double along_r = pair::pressure(s.mass, t.p_over_rho2[i], t.p_over_rho2[j], F) +
+      const double floor = fluid_j ? -std::numeric_limits<double>::infinity() : s.wall_pair_pressure_floor;
+      double along_r = pair::pressure(s.mass, std::max(t.p_over_rho2[i], floor), std::max(t.p_over_rho2[j], floor), F) +
                        pair::artificial_viscosity(fluid_j ? s.alpha : s.alpha * wall_alpha_factor, s.eos.sound_speed,
                                                   s.h, s.mass, v_dot_r, r * r, 0.5 * (p.density[i] + p.density[j]), F);
       if (with_ap) {
@@ -148,7 +152,8 @@ CellGrid<Dim> block_grid(double cell) {
 // double-precision reference to float round-off: each result within 2e-6 of the largest (floats carry
 // 6e-8 relative; a particle's sum has ~50 terms, each about the size of the largest result).
 template <int Dim, class Kernel, bool WithAp>
-void compare_with_brute_force(int threads, double wall_alpha_factor = 1.0, bool single = false) {
+void compare_with_brute_force(int threads, double wall_alpha_factor = 1.0, bool single = false,
+                              double wall_pair_floor = -std::numeric_limits<double>::infinity()) {
   const double dx = 0.02;
   Particles<Dim> p = jittered_block<Dim>(dx, 7);
   RateSettings<Dim> s{};
@@ -162,6 +167,7 @@ void compare_with_brute_force(int threads, double wall_alpha_factor = 1.0, bool 
   s.eos = TaitEos{1000.0, 20.0, 7.0};
   s.artificial_pressure = WithAp ? 0.2 : 0.0;
   s.spacing = dx;
+  s.wall_pair_pressure_floor = wall_pair_floor;
   const WallTreatment walls = wall_alpha_factor == 0.0 ? WallTreatment(AdamiWalls{}) : WallTreatment(DynamicWalls{});
   const Kernel kernel(s.h);
   CellGrid<Dim> grid = block_grid<Dim>(2.0 * s.h);
@@ -232,6 +238,13 @@ TEST(Rates, WithoutWallArtificialViscosityMatchesBruteForce) {
   compare_with_brute_force<2, CubicSpline<2>, false>(1, 0.0);
   compare_with_brute_force<2, CubicSpline<2>, false>(2, 0.0);
 }
+// mDBC and Adami walls: no tension between water and wall (the block's densities, 990-1030 kg/m^3,
+// give negative pressures on both sides of fluid-wall pairs).
+TEST(Rates, WallPairPressureFloorMatchesBruteForce) {
+  compare_with_brute_force<2, CubicSpline<2>, false>(2, 1.0, false, 0.0);
+  compare_with_brute_force<2, CubicSpline<2>, false>(1, 0.0, false, 0.0);
+  compare_with_brute_force<3, WendlandC2<3>, false>(2, 1.0, false, 0.0);
+}
 TEST(Rates, ThreeDimensionsMatchBruteForce) {
   compare_with_brute_force<3, CubicSpline<3>, false>(2);
   compare_with_brute_force<3, WendlandC2<3>, false>(1, 0.0);
@@ -247,6 +260,8 @@ TEST(Rates, EverySimdTargetMatchesBruteForce) {
     compare_with_brute_force<2, CubicSpline<2>, false>(2, 0.0);
     compare_with_brute_force<3, CubicSpline<3>, false>(2);
     compare_with_brute_force<3, WendlandC2<3>, true>(1, 0.0);
+    compare_with_brute_force<2, CubicSpline<2>, false>(2, 1.0, false, 0.0);
+    compare_with_brute_force<3, CubicSpline<3>, false>(1, 1.0, false, 0.0);
   });
 }
 
@@ -256,6 +271,7 @@ TEST(Rates, SinglePrecisionMatchesBruteForceOnEveryTarget) {
     compare_with_brute_force<2, WendlandC2<2>, true>(1, 0.0, true);
     compare_with_brute_force<3, CubicSpline<3>, false>(2, 1.0, true);
     compare_with_brute_force<3, WendlandC2<3>, true>(1, 0.0, true);
+    compare_with_brute_force<2, CubicSpline<2>, false>(2, 1.0, true, 0.0);
   });
 }
 

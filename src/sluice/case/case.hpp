@@ -110,6 +110,7 @@ struct Case {
   double initial_pressure = 0.0;      // added to the water's initial pressure
   WallBoundary wall_boundary = WallBoundary::dynamic;
   WallSlip wall_slip = WallSlip::free_slip;  // mdbc walls
+  bool wall_tension = true;  // negative pressures act between water and wall particles (false: counted as 0)
   double shifting = 0.0;                // particle shifting coefficient A; 0 = off
   double free_surface_threshold = 0.0;  // div r below which a fluid particle is on the free surface
 

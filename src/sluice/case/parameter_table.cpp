@@ -164,6 +164,10 @@ const std::vector<Param<Case>>& case_params() {
               "For mdbc walls: free_slip (the wall particles take the tangential part of the water's velocity at their "
               "mirror image and minus its normal part) or no_slip (minus all of it, so the velocity vanishes at the "
               "surface; with the artificial viscosity this is a strong wall friction: see README)."),
+      declare("physics.wall_tension", &Case::wall_tension, "", true, unbounded_lower, unbounded_upper,
+              "Whether a wall holds the water beside it in tension: true, the pressure force between a water and a "
+              "wall particle takes both pressures as they are; false, a negative pressure counts as 0 there, so a "
+              "wall never pulls water towards itself (lets mdbc walls run the beach and obstacle cases: see README)."),
       declare("physics.shifting", &Case::shifting, "", 0.0, 0.0, 10.0,
               "Particle shifting coefficient A (0 = off): each step moves every fluid particle by "
               "-A h |v| dt grad C (Lind et al. 2012, Skillen et al. 2013, with the anti-clumping weight of Sun et al. "

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "sluice/core/particles.hpp"
@@ -30,6 +31,9 @@ struct RateSettings {
   double artificial_pressure = 0.0;  // Monaghan (2000) epsilon; 0 = off
   int artificial_pressure_exponent = 4;
   double spacing = 0.0;              // dx, for W(dx) in the artificial pressure
+  // The least P/rho^2 either particle of a fluid-wall pair brings to the pair's pressure force: -inf
+  // (none, the default) or 0, where walls cannot hold the water in tension (physics.wall_tension = false).
+  double wall_pair_pressure_floor = -std::numeric_limits<double>::infinity();
 };
 
 struct RateSummary {

@@ -42,6 +42,7 @@ struct WcsphPair {
   C inv_w_dx = 0.0;  // 1 / W(dx), for the artificial pressure
   int ap_n = 0;      // artificial pressure exponent
   C far_r2 = 0.0;    // beyond the support
+  C wall_pair_floor = -std::numeric_limits<double>::infinity();  // RateSettings::wall_pair_pressure_floor
   // The particle fields (physics/particle_terms.hpp); a density is rho_base + rho[i].
   std::array<const R*, Dim> v{};
   const R *rho = nullptr, *inv_rho = nullptr, *p_over_rho2 = nullptr, *hydro_k = nullptr, *fluid = nullptr,
@@ -66,6 +67,7 @@ struct WcsphPair {
     q.inv_w_dx = c(inv_w_dx);
     q.ap_n = ap_n;
     q.far_r2 = c(far_r2);
+    q.wall_pair_floor = T(wall_pair_floor);
     q.v = v;
     q.rho = rho;
     q.inv_rho = inv_rho;
@@ -91,6 +93,7 @@ struct WcsphPair {
     pair.inv_w_dx = WithArtificialPressure ? 1.0 / kernel.value(s.spacing) : 0.0;
     pair.ap_n = s.artificial_pressure_exponent;
     pair.far_r2 = Kernel::support * Kernel::support * s.h * s.h;
+    pair.wall_pair_floor = s.wall_pair_pressure_floor;
     const PairFields<R> f = t.template fields<R>(p);
     for (int d = 0; d < Dim; ++d) pair.v[d] = f.v[d];
     pair.rho = f.rho;
@@ -134,7 +137,11 @@ struct WcsphPair {
     const T both_fluid = i.fluid * j.fluid;
     const T alpha_ij = Walls::fluid_wall_viscosity ? T(alpha) : both_fluid * alpha;
 
-    T along_r = pair::pressure(m, i.p_over_rho2, j.p_over_rho2, F) +
+    // Between a fluid and a wall particle, each side's P/rho^2 is at least wall_pair_floor: 0 where
+    // walls cannot hold the water in tension (physics.wall_tension = false: water in tension beside a
+    // wall leaves it instead of pulling itself into it), no floor (-inf) otherwise.
+    const T floor = simd::select(both_fluid != 0.0, T(-std::numeric_limits<R>::infinity()), T(wall_pair_floor));
+    T along_r = pair::pressure(m, simd::max(i.p_over_rho2, floor), simd::max(j.p_over_rho2, floor), F) +
                 pair::artificial_viscosity(alpha_ij, c0, h, m, v_dot_r, r2, rho_base + 0.5 * (i.rho + j.rho), F);
     if constexpr (WithArtificialPressure) {
       const T f = shape::value_inside(kernel, r) * inv_w_dx;

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -89,6 +90,7 @@ void Solver<Dim>::init(const Case& c) {
   settings_.delta = c.density_diffusion;
   settings_.gravity = first<Dim>(c.gravity);
   settings_.eos = TaitEos{c.rest_density, c.sound_speed, c.gamma};
+  settings_.wall_pair_pressure_floor = c.wall_tension ? -std::numeric_limits<double>::infinity() : 0.0;
   if (c.kernel == KernelType::wendland_c2) kernel_ = WendlandC2<Dim>(h);
   else kernel_ = CubicSpline<Dim>(h);
   shifting_ = ShiftingSettings{c.shifting, c.free_surface_threshold};
