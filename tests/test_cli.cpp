@@ -159,6 +159,10 @@ TEST_F(Cli, RunsUnderValgrind) {
 #endif
   if (!fs::exists("/usr/bin/valgrind")) GTEST_SKIP() << "valgrind is not installed";
   const Result r = command({"/usr/bin/valgrind", "--tool=none", "-q", SLUICE_BIN, "--version"});
+  // Valgrind 3.19 (Debian 12) on AMD EPYC stops at an instruction of libhwy's own start-up timer
+  // (hwy::platform::TimerResolution), before sluice's code runs: not this test's subject.
+  if (r.status != 0 && r.err.find("SIGILL") != std::string::npos && r.err.find("libhwy") != std::string::npos)
+    GTEST_SKIP() << "valgrind cannot run libhwy's start-up on this CPU:\n" << r.err;
   EXPECT_EQ(r.status, 0) << r.err;
   EXPECT_TRUE(r.out.rfind("sluice ", 0) == 0) << r.out;
 }

@@ -176,6 +176,50 @@ TEST(Leaks, AParticleInsideAWallIsPutBackWithItsNormalVelocityReversed) {
   EXPECT_EQ(put_back_leaked(p, solids, dx), 0u);
 }
 
+TEST(NoPenetration, WaterCloseToAWallLosesItsApproachAndNothingElse) {
+  // A floor at y = 0, dx = 0.1: the band is y < dx/4 = 0.025.
+  const double dx = 0.1;
+  const Solids<2> solids = {std::make_shared<Polygon>(Polygon::box({-0.3, -0.3}, {2.3, 0.0}))};
+  Particles<2> p;
+  const auto add = [&](double x, double y, double vx, double vy) {
+    p.add({x, y}, Kind::fluid, 1000.0);
+    p.velocity[0].back() = vx;
+    p.velocity[1].back() = vy;
+  };
+  add(0.5, 0.0, 1.0, -2.0);      // 0: on the surface, moving in: the approach stops (f = 1)
+  add(0.6, 0.0125, 1.0, -2.0);   // 1: half way through the band: half of it goes (f = 0.5)
+  add(0.7, -0.025, 1.0, -2.0);   // 2: a quarter spacing inside: reflected (f = 2)
+  add(0.8, -0.05, 0.0, -2.0);    // 3: deeper inside: still reflected (f clamped at 2)
+  add(0.9, 0.01, 1.0, 2.0);      // 4: moving away from the wall: untouched
+  add(1.0, 0.05, 0.0, -2.0);     // 5: at dx/2, where water at rest sits: untouched
+  add(1.1, 0.0, 0.0, -2.0);      // 6: a wall particle: untouched
+  p.kind.back() = Kind::wall;
+  EXPECT_EQ(stop_wall_approach(p, solids, dx, nullptr, 0.0), 4u);
+  const double expected_vy[] = {0.0, -1.0, 2.0, 2.0, 2.0, -2.0, -2.0};
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double expected_vx = i == 0 || i == 1 || i == 2 || i == 4 ? 1.0 : 0.0;  // the tangential part stays
+    EXPECT_NEAR(p.velocity[1][i], expected_vy[i], 1e-9) << "particle " << i;
+    EXPECT_NEAR(p.velocity[0][i], expected_vx, 1e-9) << "particle " << i;
+  }
+}
+
+TEST(NoPenetration, TheDriftVelocityDecidesWithTheLeapfrogsHalfKick) {
+  // At rest on the surface of a 3D floor, but the half kick tau a would carry the particle in: the
+  // velocity takes minus that approach (the drift velocity v + tau a then has no normal part).
+  const Solids<3> solids = {std::make_shared<Box<3>>(Vec<3>{-0.3, -0.3, -0.3}, Vec<3>{1.3, 0.9, 0.0})};
+  Particles<3> p;
+  p.add({0.5, 0.4, 0.0}, Kind::fluid, 1000.0);
+  p.add({0.5, 0.2, 0.0}, Kind::fluid, 1000.0);
+  Particles<3>::Vector<double> a;
+  for (auto& component : a) component.assign(2, 0.0);
+  a[2][0] = -10.0;  // pulled down
+  a[2][1] = +10.0;  // pushed up
+  EXPECT_EQ(stop_wall_approach(p, solids, 0.1, &a, 0.01), 1u);
+  EXPECT_NEAR(p.velocity[2][0] + 0.01 * a[2][0], 0.0, 1e-12);
+  EXPECT_EQ(p.velocity[2][1], 0.0);
+  EXPECT_EQ(stop_wall_approach(p, solids, 0.1, nullptr, 0.0), 0u);  // moving up now: nothing to stop
+}
+
 TEST(Setup, NearCoincidentPointsKeepOneOfEachPair) {
   Particles<2> p;
   p.add({0.0, 0.0}, Kind::wall, 1000.0);

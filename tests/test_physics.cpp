@@ -282,6 +282,49 @@ TEST(Beach, MdbcWallsWithoutWallTensionStayHealthyAndDoNotLeak) {
   EXPECT_EQ(sim.clock().leaks, 0);
 }
 
+// With wall tension mDBC walls let the obstacle case's water into the block (1,079 put-backs) and the
+// run went unstable at t = 7.6 s. physics.wall_no_penetration stops water within dx/4 of a wall from
+// moving into it: the run reaches its end healthy, with nothing put back.
+TEST(Obstacle, MdbcWallsWithNoPenetrationRunToTheEndWithoutLeaks) {
+  Case c = *load_builtin_case("obstacle");
+  apply_override(c, "physics.wall_boundary=mdbc");
+  apply_override(c, "physics.wall_no_penetration=true");
+  Simulation sim(c, 1);
+  while (sim.time() < c.end_time) {
+    sim.step(c.end_time);
+    const Health health = sim.check_health();
+    ASSERT_TRUE(health.ok()) << "t = " << sim.time() << ": " << health.first.front().reason;
+    ASSERT_EQ(sim.clock().leaks, 0) << "t = " << sim.time();
+  }
+}
+
+// The default walls (dynamic, with no penetration) run every 2D built-in case without a leak; the
+// obstacle case was the one that leaked (3 put back over its 15 s without no penetration).
+TEST(Obstacle, DefaultWallsDoNotLeak) {
+  const Case c = *load_builtin_case("obstacle");
+  ASSERT_TRUE(c.wall_no_penetration);
+  Simulation sim(c, 1);
+  while (sim.time() < c.end_time) sim.step(c.end_time);
+  EXPECT_TRUE(sim.check_health().ok());
+  EXPECT_EQ(sim.clock().leaks, 0);
+}
+
+// Particle shifting with Adami walls put the default dam break's water through the floor under the bore
+// from t = 7 s on (62,149 put-backs over 30 s). With no penetration none goes in.
+TEST(DamBreak, ShiftingWithAdamiWallsAndNoPenetrationDoesNotLeak) {
+  Case c = *load_builtin_case("dam_break");
+  apply_override(c, "physics.wall_boundary=adami");
+  apply_override(c, "physics.shifting=2");
+  apply_override(c, "physics.wall_no_penetration=true");
+  apply_override(c, "time.end=12");
+  Simulation sim(c, 1);
+  while (sim.time() < c.end_time) {
+    sim.step(c.end_time);
+    ASSERT_EQ(sim.clock().leaks, 0) << "t = " << sim.time();
+  }
+  EXPECT_TRUE(sim.check_health().ok());
+}
+
 // The first 3D run (built-in case still_water_3d: 0.5 m of water at rest in a closed 0.6 x 0.4 x 0.8 m
 // box, dx = 0.05 m, z up, squeezed to its hydrostatic density) through the same solver: the water stays
 // at rest for 1 s (4.4 sqrt(H/g)), nothing leaks, and the pressure is hydrostatic. The floor pressure

@@ -111,6 +111,7 @@ struct Case {
   WallBoundary wall_boundary = WallBoundary::dynamic;
   WallSlip wall_slip = WallSlip::free_slip;  // mdbc walls
   bool wall_tension = true;  // negative pressures act between water and wall particles (false: counted as 0)
+  bool wall_no_penetration = true;   // water within dx/4 of a wall loses its velocity into it (geometry/leaks.hpp)
   double shifting = 0.0;                // particle shifting coefficient A; 0 = off
   double free_surface_threshold = 0.0;  // div r below which a fluid particle is on the free surface
 

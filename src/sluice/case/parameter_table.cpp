@@ -168,6 +168,11 @@ const std::vector<Param<Case>>& case_params() {
               "Whether a wall holds the water beside it in tension: true, the pressure force between a water and a "
               "wall particle takes both pressures as they are; false, a negative pressure counts as 0 there, so a "
               "wall never pulls water towards itself (lets mdbc walls run the beach and obstacle cases: see README)."),
+      declare("physics.wall_no_penetration", &Case::wall_no_penetration, "", true, unbounded_lower, unbounded_upper,
+              "Whether water closer than dx/4 to a wall surface loses its velocity into the wall before each move: "
+              "stopped at the surface, reflected a quarter spacing inside, untouched from dx/4 out (water at rest "
+              "sits at dx/2). Keeps fast water, and shifted water, out of every kind of wall; false lets the walls' "
+              "pressure alone hold the water (what leaks in is put back and counted): see README."),
       declare("physics.shifting", &Case::shifting, "", 0.0, 0.0, 10.0,
               "Particle shifting coefficient A (0 = off): each step moves every fluid particle by "
               "-A h |v| dt grad C (Lind et al. 2012, Skillen et al. 2013, with the anti-clumping weight of Sun et al. "

@@ -1,5 +1,8 @@
 #include "sluice/geometry/leaks.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 #include "sluice/core/parallel.hpp"
 
 namespace sluice {
@@ -20,6 +23,24 @@ const Solid<Dim>* containing(const std::vector<Bounded<Dim>>& solids, const Vec<
     if (in_box && b.solid->contains(x)) return b.solid;
   }
   return nullptr;
+}
+
+// The solid's outward surface normal nearest x, at signed distance `distance`. On the surface itself
+// the direction to the closest point is undefined: there the gradient of the signed distance, by
+// central differences.
+template <int Dim>
+Vec<Dim> outward_normal(const Solid<Dim>& solid, const Vec<Dim>& x, double distance, double dx) {
+  if (std::abs(distance) > 1e-6 * dx) return solid.closest_surface_point(x).normal;
+  const double step = 1e-4 * dx;
+  Vec<Dim> gradient{};
+  for (int d = 0; d < Dim; ++d) {
+    Vec<Dim> plus = x, minus = x;
+    plus[d] += step;
+    minus[d] -= step;
+    gradient[d] = solid.signed_distance(plus) - solid.signed_distance(minus);
+  }
+  const double length = norm(gradient);
+  return length > 0.0 ? (1.0 / length) * gradient : Vec<Dim>{};
 }
 
 }  // namespace
@@ -58,7 +79,54 @@ std::size_t put_back_leaked(Particles<Dim>& p, const Solids<Dim>& solids, double
   return static_cast<std::size_t>(count);
 }
 
+template <int Dim>
+std::size_t stop_wall_approach(Particles<Dim>& p, const Solids<Dim>& solids, double dx,
+                               const typename Particles<Dim>::template Vector<double>* acceleration, double tau,
+                               int threads) {
+  const double band = 0.25 * dx;
+  std::vector<Bounded<Dim>> near;
+  near.reserve(solids.size());
+  for (const auto& s : solids) {
+    Vec<Dim> lower = s->lower(), upper = s->upper();
+    for (int d = 0; d < Dim; ++d) {
+      lower[d] -= band;
+      upper[d] += band;
+    }
+    near.push_back({s.get(), lower, upper});
+  }
+  const long n = static_cast<long>(p.size());
+  const long count = parallel::count<long>(n, threads, [&](long i) -> long {
+    if (p.kind[i] != Kind::fluid) return 0;
+    Vec<Dim> x{};
+    for (int d = 0; d < Dim; ++d) x[d] = p.position[d][i];
+    long changed = 0;
+    for (const Bounded<Dim>& b : near) {
+      bool in_box = true;
+      for (int d = 0; d < Dim; ++d) in_box = in_box && x[d] > b.lower[d] && x[d] < b.upper[d];
+      if (!in_box) continue;
+      const double distance = b.solid->signed_distance(x);
+      if (distance >= band) continue;
+      const Vec<Dim> normal = outward_normal<Dim>(*b.solid, x, distance, dx);
+      double un = 0.0;
+      for (int d = 0; d < Dim; ++d) {
+        const double a = acceleration != nullptr ? (*acceleration)[d][i] : 0.0;
+        un += (p.velocity[d][i] + tau * a) * normal[d];
+      }
+      if (!(un < 0.0)) continue;
+      const double f = std::clamp(1.0 - distance / band, 0.0, 2.0);
+      for (int d = 0; d < Dim; ++d) p.velocity[d][i] -= f * un * normal[d];
+      changed = 1;
+    }
+    return changed;
+  });
+  return static_cast<std::size_t>(count);
+}
+
 template std::size_t put_back_leaked<2>(Particles<2>&, const Solids<2>&, double, int);
 template std::size_t put_back_leaked<3>(Particles<3>&, const Solids<3>&, double, int);
+template std::size_t stop_wall_approach<2>(Particles<2>&, const Solids<2>&, double,
+                                           const Particles<2>::Vector<double>*, double, int);
+template std::size_t stop_wall_approach<3>(Particles<3>&, const Solids<3>&, double,
+                                           const Particles<3>::Vector<double>*, double, int);
 
 }  // namespace sluice

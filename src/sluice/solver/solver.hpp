@@ -184,6 +184,8 @@ class Solver {
   StepSize step_size(const RateSummary& r, double time_limit) const;
   // After the update: the particle shift, the put-back of leaked particles, the clock.
   void finish_step(const StepSize& size, double time_limit);
+  // Before a drift: physics.wall_no_penetration (geometry/leaks.hpp).
+  void stop_wall_approach_before_drift(const typename Particles<Dim>::template Vector<double>* acceleration, double tau);
 
   Case case_;
   Particles<Dim> particles_;

@@ -226,15 +226,18 @@ void Solver<Dim>::step(double time_limit) {
   const double dt = size.dt;
   const double floor = settings_.eos.rest_density;
   if (case_.integrator == Integrator::predictor_corrector) {
+    stop_wall_approach_before_drift(nullptr, 0.0);
     predictor_update(particles_, dt, floor, threads_);
     has_saved_state_ = true;
     evaluate(false, field_role::step_start, true);
+    stop_wall_approach_before_drift(nullptr, 0.0);
     corrector_update(particles_, dt, floor, threads_);
   } else {
     particles_.position_start = particles_.position;
     particles_.velocity_start = particles_.velocity;
     particles_.density_start = particles_.density;
     has_saved_state_ = true;
+    stop_wall_approach_before_drift(nullptr, 0.0);
     euler_update(particles_, dt, floor, threads_);
   }
   finish_step(size, time_limit);
@@ -261,11 +264,20 @@ void Solver<Dim>::leapfrog_step(double time_limit, bool shepard_due) {
   // a(n), D(n) to the step-start fields, where the evaluation's reordering moves them with y(n).
   std::swap(p.acceleration, p.acceleration_start);
   std::swap(p.density_rate, p.density_rate_start);
+  stop_wall_approach_before_drift(&p.acceleration_start, 0.5 * dt);
   leapfrog_kick_drift(p, dt, floor, threads_);
   has_saved_state_ = true;
   clock_.rates = global(evaluate(shepard_due, field_role::step_start | field_role::rates_start, true));
   leapfrog_final_kick(p, dt, floor, threads_);
   finish_step(size, time_limit);
+}
+
+// physics.wall_no_penetration: the velocity that moves the water next stops short of the walls
+// (geometry/leaks.hpp); acceleration and tau give the part of the drift velocity the update adds.
+template <int Dim>
+void Solver<Dim>::stop_wall_approach_before_drift(const typename Particles<Dim>::template Vector<double>* acceleration,
+                                                  double tau) {
+  if (case_.wall_no_penetration) stop_wall_approach(particles_, solids_, case_.dx, acceleration, tau, threads_);
 }
 
 // What follows every integrator's update: the particle shift, the put-back of leaked particles, the clock.
