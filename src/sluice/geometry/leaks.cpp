@@ -15,13 +15,33 @@ struct Bounded {
   Vec<Dim> lower, upper;
 };
 
+// Each solid with its bounding box grown by `margin` on every side.
+template <int Dim>
+std::vector<Bounded<Dim>> bounded(const Solids<Dim>& solids, double margin) {
+  std::vector<Bounded<Dim>> boxes;
+  boxes.reserve(solids.size());
+  for (const auto& s : solids) {
+    Vec<Dim> lower = s->lower(), upper = s->upper();
+    for (int d = 0; d < Dim; ++d) {
+      lower[d] -= margin;
+      upper[d] += margin;
+    }
+    boxes.push_back({s.get(), lower, upper});
+  }
+  return boxes;
+}
+
+template <int Dim>
+bool in_box(const Bounded<Dim>& b, const Vec<Dim>& x) {
+  for (int d = 0; d < Dim; ++d)
+    if (!(x[d] > b.lower[d] && x[d] < b.upper[d])) return false;
+  return true;
+}
+
 template <int Dim>
 const Solid<Dim>* containing(const std::vector<Bounded<Dim>>& solids, const Vec<Dim>& x) {
-  for (const Bounded<Dim>& b : solids) {
-    bool in_box = true;
-    for (int d = 0; d < Dim; ++d) in_box = in_box && x[d] > b.lower[d] && x[d] < b.upper[d];
-    if (in_box && b.solid->contains(x)) return b.solid;
-  }
+  for (const Bounded<Dim>& b : solids)
+    if (in_box<Dim>(b, x) && b.solid->contains(x)) return b.solid;
   return nullptr;
 }
 
@@ -47,16 +67,14 @@ Vec<Dim> outward_normal(const Solid<Dim>& solid, const Vec<Dim>& x, double dista
 
 template <int Dim>
 std::size_t put_back_leaked(Particles<Dim>& p, const Solids<Dim>& solids, double dx, int threads) {
-  std::vector<Bounded<Dim>> bounded;
-  bounded.reserve(solids.size());
-  for (const auto& s : solids) bounded.push_back({s.get(), s->lower(), s->upper()});
+  const std::vector<Bounded<Dim>> boxes = bounded<Dim>(solids, 0.0);
 
   const long n = static_cast<long>(p.size());
   const long count = parallel::count<long>(n, threads, [&](long i) -> long {
     if (p.kind[i] != Kind::fluid) return 0;
     Vec<Dim> x{};
     for (int d = 0; d < Dim; ++d) x[d] = p.position[d][i];
-    const Solid<Dim>* solid = containing<Dim>(bounded, x);
+    const Solid<Dim>* solid = containing<Dim>(boxes, x);
     if (solid == nullptr) return 0;
     Vec<Dim> v{};
     for (int d = 0; d < Dim; ++d) v[d] = p.velocity[d][i];
@@ -67,7 +85,7 @@ std::size_t put_back_leaked(Particles<Dim>& p, const Solids<Dim>& solids, double
       x = surface.point + (0.5 * dx) * surface.normal;
       const double vn = dot(v, surface.normal);
       if (vn < 0.0) v = v - (2.0 * vn) * surface.normal;
-      solid = containing<Dim>(bounded, x);
+      solid = containing<Dim>(boxes, x);
     }
     for (int d = 0; d < Dim; ++d) {
       p.position[d][i] = x[d];
@@ -84,16 +102,7 @@ std::size_t stop_wall_approach(Particles<Dim>& p, const Solids<Dim>& solids, dou
                                const typename Particles<Dim>::template Vector<double>* acceleration, double tau,
                                int threads) {
   const double band = 0.25 * dx;
-  std::vector<Bounded<Dim>> near;
-  near.reserve(solids.size());
-  for (const auto& s : solids) {
-    Vec<Dim> lower = s->lower(), upper = s->upper();
-    for (int d = 0; d < Dim; ++d) {
-      lower[d] -= band;
-      upper[d] += band;
-    }
-    near.push_back({s.get(), lower, upper});
-  }
+  const std::vector<Bounded<Dim>> near = bounded<Dim>(solids, band);
   const long n = static_cast<long>(p.size());
   const long count = parallel::count<long>(n, threads, [&](long i) -> long {
     if (p.kind[i] != Kind::fluid) return 0;
@@ -101,9 +110,7 @@ std::size_t stop_wall_approach(Particles<Dim>& p, const Solids<Dim>& solids, dou
     for (int d = 0; d < Dim; ++d) x[d] = p.position[d][i];
     long changed = 0;
     for (const Bounded<Dim>& b : near) {
-      bool in_box = true;
-      for (int d = 0; d < Dim; ++d) in_box = in_box && x[d] > b.lower[d] && x[d] < b.upper[d];
-      if (!in_box) continue;
+      if (!in_box<Dim>(b, x)) continue;
       const double distance = b.solid->signed_distance(x);
       if (distance >= band) continue;
       const Vec<Dim> normal = outward_normal<Dim>(*b.solid, x, distance, dx);
