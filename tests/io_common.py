@@ -70,7 +70,7 @@ NPZ_ARRAYS = {  # name -> (dtype, shape with N for the particle count)
 }
 
 DIAGNOSTICS_COLUMNS = ["time", "step", "dt", "max_speed", "min_density", "max_density", "kinetic_energy",
-                       "potential_energy", "total_energy", "total_mass", "leaks", "min_particle_distance",
+                       "potential_energy", "total_energy", "total_mass", "leaks", "outflow", "min_particle_distance",
                        "wall_time"]
 
 # Threads per run. One by default: tests run side by side (ctest -j) on shared cores, where OpenMP

@@ -369,7 +369,7 @@ TEST_F(CheckpointFile, AnotherFormatVersionNamesBothVersions) {
   std::memcpy(other.data() + 8, &version, sizeof version);
   const std::string message = error_of([&] { parse_checkpoint(other, "old.bin"); });
   EXPECT_NE(message.find("old.bin"), std::string::npos) << message;
-  EXPECT_NE(message.find(fmt::format("format version {}, this sluice reads versions 2 and {}", version,
+  EXPECT_NE(message.find(fmt::format("format version {}, this sluice reads versions 2 to {}", version,
                                      checkpoint_format_version)),
             std::string::npos)
       << message;
@@ -385,31 +385,37 @@ TEST_F(CheckpointFile, AVersionOneCheckpointIsAClearError) {
       << message;
 }
 
-// Version 2 (before the leapfrog) is version 3 without the rates-carried byte after the clock: such a
-// file still restarts, and continues exactly as the version 3 file of the same state.
-TEST_F(CheckpointFile, AVersionTwoCheckpointIsStillRead) {
+// Version 3 (before outflow) is version 4 without the outflow count after the rates, and version 2
+// (before the leapfrog) version 3 without the rates-carried byte after the clock: such files still
+// restart, and continue exactly as the current file of the same state.
+TEST_F(CheckpointFile, VersionTwoAndThreeCheckpointsAreStillRead) {
   ASSERT_FALSE(sim_->clock().rates_carried);
   const std::string stored_case = case_template(sim_->config());
   const std::size_t flag_at = 8 + 4 + 4 + 8 + stored_case.size() + 5 * 8;
   ASSERT_EQ(bytes_.substr(8 + 4 + 4 + 8, stored_case.size()), stored_case);
   ASSERT_EQ(bytes_[flag_at], '\0');
-  std::string old = bytes_;
-  old.erase(flag_at, 1);
-  const std::uint32_t version = 2;
-  std::memcpy(old.data() + 8, &version, sizeof version);
-  Checkpoint v2 = parse_checkpoint(with_crc_fixed(old), "v2.bin");
-  Checkpoint v3 = parse_checkpoint(bytes_, "v3.bin");
-  EXPECT_FALSE(v2.clock.rates_carried);
-  EXPECT_EQ(v2.clock.step, 25);
-  EXPECT_EQ(std::get<Particles<2>>(v2.particles).position[1], std::get<Particles<2>>(v3.particles).position[1]);
-  Simulation from_v2(v2.config, std::move(v2.particles), v2.clock, 1);
-  Simulation from_v3(v3.config, std::move(v3.particles), v3.clock, 1);
-  for (int i = 0; i < 10; ++i) {
-    from_v2.step();
-    from_v3.step();
+  ASSERT_EQ(bytes_.substr(flag_at + 1, 8), std::string(8, '\0'));  // no outflow
+  const auto older = [&](std::uint32_t version) {
+    std::string old = bytes_;
+    old.erase(flag_at + 1, 8);
+    if (version == 2) old.erase(flag_at, 1);
+    std::memcpy(old.data() + 8, &version, sizeof version);
+    return parse_checkpoint(with_crc_fixed(old), fmt::format("v{}.bin", version));
+  };
+  Checkpoint current = parse_checkpoint(bytes_, "v4.bin");
+  Simulation from_current(current.config, std::move(current.particles), current.clock, 1);
+  for (int i = 0; i < 10; ++i) from_current.step();
+  for (std::uint32_t version : {2u, 3u}) {
+    SCOPED_TRACE(version);
+    Checkpoint old = older(version);
+    EXPECT_FALSE(old.clock.rates_carried);
+    EXPECT_EQ(old.clock.outflow, 0);
+    EXPECT_EQ(old.clock.step, 25);
+    Simulation from_old(old.config, std::move(old.particles), old.clock, 1);
+    for (int i = 0; i < 10; ++i) from_old.step();
+    EXPECT_EQ(from_old.particles<2>().velocity[1], from_current.particles<2>().velocity[1]);
+    EXPECT_EQ(from_old.particles<2>().density, from_current.particles<2>().density);
   }
-  EXPECT_EQ(from_v2.particles<2>().velocity[1], from_v3.particles<2>().velocity[1]);
-  EXPECT_EQ(from_v2.particles<2>().density, from_v3.particles<2>().density);
 }
 
 // The leapfrog's checkpoint also holds the rates it carries into the next step (acceleration and

@@ -14,6 +14,7 @@
 #include <new>
 #include <string>
 
+#include "physics_cases.hpp"
 #include "sluice/case/builtin_cases.hpp"
 #include "sluice/case/overrides.hpp"
 #include "sluice/case/params.hpp"
@@ -33,7 +34,8 @@ struct Agreement {
   double max_position = 0.0;  // m
   double max_velocity = 0.0;  // m/s
   double max_density = 0.0;   // kg/m^3
-  bool same_ids = false;
+  bool same_ids = false;  // the serial run's, in increasing order
+  std::int64_t outflow = 0, serial_outflow = 0;
   double time = 0.0;
   double time_difference = 0.0;  // s: the steps' sizes follow the largest acceleration, to round-off
 };
@@ -51,12 +53,15 @@ Agreement compare(const Case& c, int steps) {
     a.time_difference = std::abs(serial.time() - distributed.time());
     const Particles<Dim>& one = serial.particles<Dim>();
     a.particles = all.size();
+    a.outflow = distributed.clock().outflow;
+    a.serial_outflow = serial.clock().outflow;
     if (all.size() != one.size()) return;
-    std::vector<std::size_t> row(one.size());
+    // The serial run's row of each id (ids are 0..N-1 but for those removed as outflow).
+    const std::size_t none = one.size();
+    std::vector<std::size_t> row(one.size() + static_cast<std::size_t>(serial.clock().outflow), none);
     for (std::size_t i = 0; i < one.size(); ++i) row[one.id[i]] = i;
-    a.same_ids = true;
     for (std::size_t k = 0; k < all.size(); ++k) {
-      a.same_ids = a.same_ids && all.id[k] == k;
+      if (all.id[k] >= row.size() || row[all.id[k]] == none || (k > 0 && all.id[k] <= all.id[k - 1])) return;
       const std::size_t i = row[all.id[k]];
       for (int d = 0; d < Dim; ++d) {
         a.max_position = std::max(a.max_position, std::abs(all.position[d][k] - one.position[d][i]));
@@ -64,6 +69,7 @@ Agreement compare(const Case& c, int steps) {
       }
       a.max_density = std::max(a.max_density, std::abs(all.density[k] - one.density[i]));
     }
+    a.same_ids = true;
   });
   return a;
 }
@@ -82,7 +88,8 @@ Case collapse(const std::vector<std::string>& sets) {
 void expect_agreement(const Agreement& a, std::size_t particles, const std::string& what, double scale = 1.0) {
   if (world->rank() != 0) return;
   EXPECT_EQ(a.particles, particles) << what;
-  EXPECT_TRUE(a.same_ids) << what << ": the gathered particles are not in id order 0..N-1";
+  EXPECT_TRUE(a.same_ids) << what << ": the gathered particles are not the serial run's, in id order";
+  EXPECT_EQ(a.outflow, a.serial_outflow) << what;
   EXPECT_LT(a.max_position, 1e-9 * scale) << what;
   EXPECT_LT(a.max_velocity, 1e-7 * scale) << what;
   EXPECT_LT(a.max_density, 1e-6 * scale) << what;
@@ -134,6 +141,23 @@ TEST(Distributed3D, DamBreakFromACornerGivesTheSerialParticles) {
   apply_override(c, "domain.dx=0.05");
   const std::size_t n = Simulation(c, 1).particle_count();
   expect_agreement(compare<3>(c, 40), n, "3D dam break");
+}
+
+// Water that goes over an open tank's wall leaves the processes that hold it as it leaves one process.
+TEST(Distributed, WaterLeavingAnOpenTankIsRemovedAsOnOneProcess) {
+  const Case c = test_cases::spill_over_wall(0.005, false, 1.0);
+  Simulation probe(c, 1);
+  while (probe.clock().outflow == 0) probe.step();
+  const int steps = static_cast<int>(probe.clock().step) + 300;
+  const std::size_t left = [&] {
+    for (int s = static_cast<int>(probe.clock().step); s < steps; ++s) probe.step();
+    return probe.particle_count();
+  }();
+  const Agreement a = compare<2>(c, steps);
+  expect_agreement(a, left, "outflow");
+  if (world->rank() == 0) {
+    EXPECT_GT(a.outflow, 0);
+  }
 }
 
 // The particles are spread: each process owns some; the surge moves some across, and the boxes are

@@ -122,7 +122,8 @@ const std::vector<Param<Case>>& case_params() {
       declare("tank.height", &Case::tank_height, "m", 10.0, 1e-3, 1e5,
               "Inner height of the tank (along the up axis: y in 2D, z in 3D)."),
       declare("tank.lid", &Case::tank_lid, "", true, unbounded_lower, unbounded_upper,
-              "Close the tank with a wall at the top (up = height)."),
+              "Close the tank with a wall at the top (up = height). Without it, water that goes over the walls "
+              "and beyond their reach is removed and counted (outflow in diagnostics.csv)."),
       declare("fluid.density", &Case::rest_density, "kg/m^3", 1000.0, 1.0, 1e5, "Rest density rho0."),
       declare("fluid.sound_speed", &Case::sound_speed, "m/s", 20.0, 1e-2, 1e5,
               "Numerical speed of sound c0; keep it >= 10x the largest flow speed for density changes near 1%."),

@@ -143,6 +143,22 @@ struct Particles {
     for (std::size_t k = 0; k < keep.size(); ++k) id[k] = static_cast<std::uint32_t>(k);
   }
 
+  // Removes the particles with gone[i] != 0 (outflow: Solver::finish_step), keeping the others in
+  // their order with their ids; every field in use (of the particle count) is compacted alike, so that
+  // step-start state and carried rates stay with their particles. Fields not in use stay empty.
+  void erase(const std::vector<std::uint8_t>& gone) {
+    const std::size_t n = size();
+    fields(*this, [&](const FieldSpec&, auto& field) {
+      components(field, [&](auto& c) {
+        if (c.size() != n) return;
+        std::size_t k = 0;
+        for (std::size_t i = 0; i < n; ++i)
+          if (gone[i] == 0) c[k++] = c[i];
+        c.resize(k);
+      });
+    });
+  }
+
   // Reorders the fields so that new index k holds what old index order[k] held: the state, and the
   // step-start state when asked (during a multi-stage step). Rates are not reordered (they are
   // recomputed after every reordering).

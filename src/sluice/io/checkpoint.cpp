@@ -3,8 +3,10 @@
 #include <fmt/format.h>
 #include <zlib.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <type_traits>
 
 #include "sluice/case/params.hpp"
@@ -170,6 +172,7 @@ std::string checkpoint_bytes(const Simulation& sim, double wall_seconds) {
     put(out, c.rates.max_density);
     put(out, c.rates.min_fluid_distance);
   }
+  put(out, c.outflow);
   // Every process's particles, on the root (the other processes return nothing).
   bool here = false;
   sim.visit([&](const auto& solver) {
@@ -195,8 +198,8 @@ Checkpoint parse_checkpoint(const std::string& bytes, const std::string& source)
   if (version == 1)
     header.fail("format version 1, written by an earlier sluice (before the field table of version 2); run that "
                 "sluice to finish the run, or start the case again");
-  if (version != checkpoint_format_version && version != 2)
-    header.fail(fmt::format("format version {}, this sluice reads versions 2 and {}", version,
+  if (version < 2 || version > checkpoint_format_version)
+    header.fail(fmt::format("format version {}, this sluice reads versions 2 to {}", version,
                             checkpoint_format_version));
   std::uint32_t stored_crc = 0;
   std::memcpy(&stored_crc, bytes.data() + bytes.size() - sizeof stored_crc, sizeof stored_crc);
@@ -246,23 +249,37 @@ Checkpoint parse_checkpoint(const std::string& bytes, const std::string& source)
       r.fail(fmt::format("rates carried over with the {} integrator (only the leapfrog carries them)",
                          name_of(cp.config.integrator, integrator_names)));
   }
+  // Versions 2 and 3 (before outflow) removed no particles.
+  if (version >= 4) cp.clock.outflow = r.get<std::int64_t>();
   // A run's clock starts at zero and only moves forward. A negative or non-finite time (possible only in
   // a crafted file, the CRC passing) made a restart step forever from t = -1e300 or run to "t = nan".
   auto usable = [](double v) { return std::isfinite(v) && v >= 0.0; };
   if (!usable(cp.clock.time) || !usable(cp.clock.last_dt) || !usable(cp.wall_seconds) || cp.clock.step < 0 ||
-      cp.clock.leaks < 0)
-    r.fail(fmt::format("impossible clock (time {}, step {}, last dt {}, leaks {}, wall time {})", cp.clock.time,
-                       cp.clock.step, cp.clock.last_dt, cp.clock.leaks, cp.wall_seconds));
+      cp.clock.leaks < 0 || cp.clock.outflow < 0)
+    r.fail(fmt::format("impossible clock (time {}, step {}, last dt {}, leaks {}, outflow {}, wall time {})",
+                       cp.clock.time, cp.clock.step, cp.clock.last_dt, cp.clock.leaks, cp.clock.outflow,
+                       cp.wall_seconds));
   const auto n = r.get<std::uint64_t>();
   // 8 doubles' worth of bytes per particle at most; reject absurd counts before allocating.
   if (n > r.remaining() / 40) r.fail("particle count does not match the file size");
+  // The ids: distinct, below the particle count at the start (this count and those removed as outflow).
+  if (static_cast<std::uint64_t>(cp.clock.outflow) > std::numeric_limits<std::uint32_t>::max())
+    r.fail(fmt::format("outflow {} is more particles than a run can hold", cp.clock.outflow));
+  const std::size_t ids = n + static_cast<std::size_t>(cp.clock.outflow);
   const auto check = [&](const auto& p) {
     if (r.remaining() != 0) r.fail("trailing bytes after the particle data");
-    std::vector<std::uint8_t> seen(n, 0);
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t i = 0; i < n; ++i)
       if (static_cast<std::uint8_t>(p.kind[i]) > 1) r.fail("unknown particle kind");
-      if (p.id[i] >= n || seen[p.id[i]]++) r.fail("particle ids are not a permutation of 0..n-1");
-    }
+    // Sorted rather than marked in a table of `ids` entries: a crafted outflow must not make the
+    // check allocate gigabytes.
+    std::vector<std::uint32_t> sorted = p.id;
+    std::sort(sorted.begin(), sorted.end());
+    const bool distinct = std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end();
+    if (!distinct || (n > 0 && sorted.back() >= ids))
+      r.fail(cp.clock.outflow == 0 ? std::string("particle ids are not a permutation of 0..n-1")
+                                   : fmt::format("particle ids are not distinct ids below {} (the {} particles and "
+                                                 "the {} removed as outflow)",
+                                                 ids, n, cp.clock.outflow));
   };
   if (dimension == 3) {
     Particles<3> p = get_particles<3>(r, n, cp.clock.rates_carried);

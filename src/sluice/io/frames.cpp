@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <numeric>
 #include <type_traits>
 
@@ -15,7 +16,20 @@ namespace {
 // Not stored by the particles: the equation of state gives it from the density.
 constexpr FieldSpec pressure_field{"pressure", "Pa", field_role::frame, "p"};
 
-// A field's values placed at the rows of the particles' ids (0..n-1); a Kind is stored as its byte.
+// The row of each particle in a frame: its place in increasing id order. That is the id itself
+// unless particles have left an open tank (outflow), whose ids are then missing.
+std::vector<std::uint32_t> id_rows(const std::vector<std::uint32_t>& id) {
+  const std::size_t n = id.size();
+  if (std::all_of(id.begin(), id.end(), [&](std::uint32_t k) { return k < n; })) return id;
+  std::vector<std::uint32_t> by_id(n);
+  std::iota(by_id.begin(), by_id.end(), 0u);
+  std::sort(by_id.begin(), by_id.end(), [&](std::uint32_t a, std::uint32_t b) { return id[a] < id[b]; });
+  std::vector<std::uint32_t> row(n);
+  for (std::size_t k = 0; k < n; ++k) row[by_id[k]] = static_cast<std::uint32_t>(k);
+  return row;
+}
+
+// A field's values placed at the particles' rows (id_rows); a Kind is stored as its byte.
 template <class Field>
 FrameField frame_field(const FieldSpec& spec, const Field& field, const std::vector<std::uint32_t>& id) {
   FrameField out{std::string(spec.name), std::string(spec.short_name), false, {}};
@@ -45,10 +59,11 @@ FrameField frame_field(const FieldSpec& spec, const Field& field, const std::vec
 template <int Dim>
 std::vector<FrameField> frame_fields(const Particles<Dim>& p, const std::vector<double>& pressure) {
   std::vector<FrameField> fields;
+  const std::vector<std::uint32_t> rows = id_rows(p.id);
   Particles<Dim>::fields(p, [&](const FieldSpec& spec, const auto& field) {
     if (!spec.has(field_role::frame)) return;
-    fields.push_back(frame_field(spec, field, p.id));
-    if (spec.name == "density") fields.push_back(frame_field(pressure_field, pressure, p.id));
+    fields.push_back(frame_field(spec, field, rows));
+    if (spec.name == "density") fields.push_back(frame_field(pressure_field, pressure, rows));
   });
   return fields;
 }

@@ -153,13 +153,13 @@ class Outputs {
  private:
   static constexpr const char* diagnostics_header =
       "time,step,dt,max_speed,min_density,max_density,kinetic_energy,potential_energy,total_energy,total_mass,"
-      "leaks,min_particle_distance,wall_time\n";
+      "leaks,outflow,min_particle_distance,wall_time\n";
 
   static std::string diagnostics_row(const Diagnostics& d, double wall_seconds) {
-    return fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{:.3f}\n", d.time, d.step, d.dt, d.max_speed,
+    return fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3f}\n", d.time, d.step, d.dt, d.max_speed,
                        d.min_density, d.max_density, d.kinetic_energy, d.potential_energy,
-                       d.kinetic_energy + d.potential_energy, d.total_mass, d.leaks, d.min_particle_distance,
-                       wall_seconds);
+                       d.kinetic_energy + d.potential_energy, d.total_mass, d.leaks, d.outflow,
+                       d.min_particle_distance, wall_seconds);
   }
 
   // Frames 0..K at the regular times up to the checkpoint were written before it and are kept, with
@@ -413,6 +413,11 @@ class Run {
                                                   options_.output_dir));
     }
     ++steps_;
+    particle_steps_ += static_cast<double>(particles_);
+    if (sim_->clock().outflow != outflow_) {  // the same on every process: a collective call or none
+      outflow_ = sim_->clock().outflow;
+      particles_ = sim_->particle_count();
+    }
     frame_is_current_ = false;
     outputs_.sample_probes(*sim_);
   }
@@ -497,9 +502,7 @@ class Run {
     r.force_evaluations_per_step = sim_->force_evaluations_per_step();
     r.wall_seconds = wall();
     r.loop_seconds = seconds_since(loop_start_);
-    r.particle_steps_per_second = r.loop_seconds > 0 ? static_cast<double>(r.particles) *
-                                                           static_cast<double>(steps_) / r.loop_seconds
-                                                     : 0.0;
+    r.particle_steps_per_second = r.loop_seconds > 0 ? particle_steps_ / r.loop_seconds : 0.0;
     r.frames_written = outputs_.frames_written();
     r.interrupted = interrupted_;
     r.rest_density = c.rest_density;
@@ -528,8 +531,11 @@ class Run {
   Schedule schedule_;
   Progress progress_;
   std::int64_t steps_ = 0;
-  std::size_t particles_ = sim_->particle_count();  // on all processes; constant through a run
-  bool mid_step_ = false;                           // in Simulation::step
+  // On all processes: constant through a run but for the water that leaves an open tank (outflow_).
+  std::size_t particles_ = sim_->particle_count();
+  std::int64_t outflow_ = sim_->clock().outflow;
+  double particle_steps_ = 0.0;  // the particles of each step of this run, summed
+  bool mid_step_ = false;        // in Simulation::step
   double bytes_before_ = 0.0, exchange_seconds_before_ = 0.0;  // the set-up's exchanges
   bool interrupted_ = false;
   // A restart's state at the checkpoint time is already on disk (or, at a non-frame time, needs no frame).
@@ -586,6 +592,8 @@ std::string format_summary(const RunResult& r) {
   s += fmt::format("  pair loop   {} (the instruction set it ran on), {} precision\n", simd_target(),
                    r.single_precision_pairs ? "single" : "double");
   s += fmt::format("  leaks       {} (fluid particles put back from inside a wall)\n", d.leaks);
+  if (d.outflow > 0)
+    s += fmt::format("  outflow     {} (fluid particles that went over the open tank's walls, removed)\n", d.outflow);
   s += fmt::format("  density     min {:.2f}, max {:.2f} kg/m^3 (rho0 = {})\n", d.min_density, d.max_density,
                    r.rest_density);
   s += fmt::format("  max speed   {:.3f} m/s (c0 = {} m/s)\n", d.max_speed, r.sound_speed);

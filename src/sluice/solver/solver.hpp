@@ -28,6 +28,9 @@ struct Clock {
   std::int64_t step = 0;
   double last_dt = 0.0;
   std::int64_t leaks = 0;  // fluid particles put back from inside a wall, summed over the run
+  // Fluid particles that left an open tank (beyond its walls' reach, Solver::within_walls) and were
+  // removed, summed over the run.
+  std::int64_t outflow = 0;
   // The leapfrog carries the rates of a step's end into the next step: while `rates_carried`, the
   // particles' acceleration and density_rate are a(n), D(n) of the current state (evaluated at its
   // positions with the predicted v*, rho*: integrate/integrators.hpp) and `rates` their summary, which
@@ -50,6 +53,7 @@ struct Diagnostics {
   double potential_energy = 0.0; // fluid, relative to the origin: -m g . x
   double total_mass = 0.0;       // fluid
   std::int64_t leaks = 0;
+  std::int64_t outflow = 0;  // fluid particles removed after leaving an open tank, summed over the run
   bool all_finite = true;
   // Fluid to any particle, at the evaluation of the state the last step started from (its first; the
   // leapfrog's carried one); NaN before the first step.
@@ -149,9 +153,18 @@ class Solver {
     grid_.for_each_range_in_box(lower, upper, f);
   }
 
-  // The instability guard: every particle finite, within the tank's reach (its walls plus a margin
-  // of the tank size above an open tank), and 0.5 rho0 < rho < 2 rho0.
+  // The instability guard: every particle finite, within the tank's reach (in_reach), and
+  // 0.5 rho0 < rho < 2 rho0. Water that leaves an open tank has been removed before (finish_step).
   [[nodiscard]] Health check_health(std::size_t max_reported) const;
+
+  // Within the walls' reach: sideways inside the walls' outer faces plus a margin of 4h, and above the
+  // floor's underside less that margin. Water can leave it only over the walls of an open tank (or
+  // through a wall, when a run has gone unstable).
+  [[nodiscard]] bool within_walls(std::size_t i) const;
+  // The tank's reach: within the walls' reach, and no higher than the lid plus that margin or, above
+  // an open tank, ten times the tank's height (a jet thrown up falls back; one thrown that high is
+  // taken for an instability).
+  [[nodiscard]] bool in_reach(std::size_t i) const;
 
   // Returns to the state at the start of the last step (if it got far enough to change anything),
   // for the instability guard and after a failure mid-step; drops the ghosts of a step cut short.
@@ -182,8 +195,11 @@ class Solver {
     bool reaches_limit;
   };
   StepSize step_size(const RateSummary& r, double time_limit) const;
-  // After the update: the particle shift, the put-back of leaked particles, the clock.
+  // After the update: the particle shift, the put-back of leaked particles, the outflow, the clock.
   void finish_step(const StepSize& size, double time_limit);
+  // An open tank: removes the fluid particles beyond its walls' reach and counts them (Clock::outflow);
+  // returns how many left, on all processes.
+  std::int64_t remove_outflow();
   // Before a drift: physics.wall_no_penetration (geometry/leaks.hpp).
   void stop_wall_approach_before_drift(const typename Particles<Dim>::template Vector<double>* acceleration, double tau);
 

@@ -288,12 +288,62 @@ void Solver<Dim>::finish_step(const StepSize& size, double time_limit) {
   strip_ghosts();
   const auto leaked = static_cast<std::int64_t>(put_back_leaked(particles_, solids_, case_.dx, threads_));
   clock_.leaks += leaked;
+  clock_.outflow += remove_outflow();
   // A put-back particle moved (and its density is repaired at the next evaluation): the carried
   // rates are no longer those of the state. Every process decides alike.
   if (clock_.rates_carried && reducer_->sum(leaked) > 0) clock_.rates_carried = false;
   clock_.time = size.reaches_limit ? time_limit : clock_.time + dt;
   clock_.last_dt = dt;
   ++clock_.step;
+}
+
+// Water that went over the walls of an open tank and fell beyond their reach is gone: it is removed
+// (with its step-start state and carried rates, so that the guard's return to the step's start and
+// the leapfrog's next kick apply to the particles that remain). The carried rates of the others stay
+// those of the state at the step's end, of which the removed particles were part. The indices of the
+// cell grid no longer hold after the compaction: for_each_range_in_box scans everything until the
+// next evaluation bins again.
+template <int Dim>
+std::int64_t Solver<Dim>::remove_outflow() {
+  if (case_.tank_lid) return 0;
+  const std::size_t n = particles_.size();
+  std::vector<std::uint8_t> gone(n, 0);
+  std::int64_t here = 0;
+  auto finite = [&](std::size_t i) {
+    bool f = true;
+    for (int d = 0; d < Dim; ++d) f = f && std::isfinite(particles_.position[d][i]);
+    return f;
+  };
+  // A particle that is not finite is the guard's (check_health), not outflow.
+  for (std::size_t i = 0; i < n; ++i)
+    if (particles_.is_fluid(i) && finite(i) && !within_walls(i)) {
+      gone[i] = 1;
+      ++here;
+    }
+  if (here > 0) {
+    particles_.erase(gone);
+    grid_binned_ = false;
+  }
+  return reducer_->sum(here);
+}
+
+template <int Dim>
+bool Solver<Dim>::within_walls(std::size_t i) const {
+  constexpr int up = Dim - 1;
+  const double reach = wall_layers(case_) * case_.dx + 4.0 * settings_.h;
+  const Vec3 size = case_.tank_size();
+  for (int d = 0; d < up; ++d)
+    if (!(particles_.position[d][i] >= -reach && particles_.position[d][i] <= size[d] + reach)) return false;
+  return particles_.position[up][i] >= -reach;
+}
+
+template <int Dim>
+bool Solver<Dim>::in_reach(std::size_t i) const {
+  constexpr int up = Dim - 1;
+  const double reach = wall_layers(case_) * case_.dx + 4.0 * settings_.h;
+  const double height = case_.tank_size()[up];
+  const double top = height + (case_.tank_lid ? reach : 10.0 * std::max(height, reach));
+  return within_walls(i) && particles_.position[up][i] <= top;
 }
 
 template <int Dim>
@@ -303,6 +353,7 @@ Diagnostics Solver<Dim>::diagnostics() const {
   d.step = clock_.step;
   d.dt = clock_.last_dt;
   d.leaks = clock_.leaks;
+  d.outflow = clock_.outflow;
   d.min_density = std::numeric_limits<double>::infinity();
   d.max_density = -std::numeric_limits<double>::infinity();
   const double m = settings_.mass;
@@ -346,19 +397,13 @@ Diagnostics Solver<Dim>::diagnostics() const {
 
 template <int Dim>
 Health Solver<Dim>::check_health(std::size_t max_reported) const {
-  constexpr int up = Dim - 1;
   const Particles<Dim>& p = particles_;
   const double rho0 = settings_.eos.rest_density;
-  const double reach = wall_layers(case_) * case_.dx + 4.0 * settings_.h;
-  const Vec3 size = case_.tank_size();
-  const double top = size[up] + (case_.tank_lid ? reach : std::max(size[up], reach));
   auto problem = [&](std::size_t i) -> const char* {
     bool finite = std::isfinite(p.density[i]);
     for (int d = 0; d < Dim; ++d) finite = finite && std::isfinite(p.position[d][i]) && std::isfinite(p.velocity[d][i]);
     if (!finite) return "not finite";
-    for (int d = 0; d < up; ++d)
-      if (p.position[d][i] < -reach || p.position[d][i] > size[d] + reach) return "far outside the tank";
-    if (p.position[up][i] < -reach || p.position[up][i] > top) return "far outside the tank";
+    if (!in_reach(i)) return "far outside the tank";
     const double rho = p.density[i];
     if (!(rho > 0.5 * rho0 && rho < 2.0 * rho0)) return "density outside (0.5, 2) rho0";
     return nullptr;
@@ -417,7 +462,11 @@ void Solver<Dim>::restore_saved_state() {
     p.density_rate = p.density_rate_start;
   }
   std::fill(p.needs_density_repair.begin(), p.needs_density_repair.end(), 0);
+  // The particles that left an open tank in the step stay removed (also from the step-start state),
+  // and counted.
+  const std::int64_t outflow = clock_.outflow;
   clock_ = saved_clock_;
+  clock_.outflow = outflow;
 }
 
 }  // namespace sluice
