@@ -90,6 +90,12 @@ TEST(QuickValidation, AgreesWithExperimentsAtCoarseResolution) {
   EXPECT_NE(html.find("Martin &amp; Moyce"), std::string::npos);
   EXPECT_NE(html.find("Buchner"), std::string::npos);
   EXPECT_NE(read_text(dir / "stdout.txt").find("PASS martin_moyce"), std::string::npos);
+  // Each case's table says what leaked and what left: with the default walls, nothing leaks.
+  std::size_t no_leaks = 0;
+  for (auto pos = html.find("<td>0 put back from inside a wall, "); pos != std::string::npos;
+       pos = html.find("<td>0 put back from inside a wall, ", pos + 1))
+    ++no_leaks;
+  EXPECT_EQ(no_leaks, 3u);
 
   const auto c = read_checks(dir / "out" / "checks.csv");
   const auto m = read_comparisons(dir / "out" / "validation.csv");

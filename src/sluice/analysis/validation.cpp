@@ -452,6 +452,9 @@ std::string validation_html(const ValidationReport& report, const std::string& c
                           {"resolution", r.resolution},
                           {"particles", fmt::format("{} ({} fluid)", r.particles, r.fluid_particles)},
                           {"steps", std::to_string(r.steps)},
+                          {"leaks, outflow", fmt::format("{} put back from inside a wall, {} went over the open "
+                                                         "tank's walls and were removed",
+                                                         r.leaks, r.outflow)},
                           {"wall time", fmt::format("{:.1f} s", r.wall_seconds)},
                           {"physics", r.settings}});
     for (const auto& f : r.figures) html.figure(f.svg, f.caption);
@@ -507,9 +510,11 @@ ValidationReport run_validation(const ValidationOptions& options, std::ostream& 
     result.particles = rr.particles;
     result.fluid_particles = rr.final.fluid_particles;
     result.steps = rr.final.step;
+    result.leaks = rr.final.leaks;
+    result.outflow = rr.final.outflow;
     result.wall_seconds = rr.wall_seconds;
-    log << fmt::format("validate: {} done in {:.1f} s ({} particles, {} steps)\n", name, rr.wall_seconds, rr.particles,
-                       rr.final.step)
+    log << fmt::format("validate: {} done in {:.1f} s ({} particles, {} steps, {} leaks, {} outflow)\n", name,
+                       rr.wall_seconds, rr.particles, rr.final.step, rr.final.leaks, rr.final.outflow)
         << std::flush;
     report.results.push_back(std::move(result));
   }

@@ -53,6 +53,8 @@ struct ValidationResult {
   std::string settings;    // the physics options in one line
   std::size_t particles = 0, fluid_particles = 0;
   std::int64_t steps = 0;
+  std::int64_t leaks = 0;    // fluid particles put back from inside a wall
+  std::int64_t outflow = 0;  // fluid particles that went over an open tank's walls
   double wall_seconds = 0.0;
   std::vector<Comparison> comparisons;
   std::vector<Check> checks;
