@@ -31,23 +31,23 @@ std::vector<std::uint32_t> id_rows(const std::vector<std::uint32_t>& id) {
 
 // A field's values placed at the particles' rows (id_rows); a Kind is stored as its byte.
 template <class Field>
-FrameField frame_field(const FieldSpec& spec, const Field& field, const std::vector<std::uint32_t>& id) {
+FrameField frame_field(const FieldSpec& spec, const Field& field, const std::vector<std::uint32_t>& row) {
   FrameField out{std::string(spec.name), std::string(spec.short_name), false, {}};
   using Element = typename Field::value_type;
-  const std::size_t n = id.size();
+  const std::size_t n = row.size();
   if constexpr (std::is_enum_v<Element>) {
     std::vector<std::underlying_type_t<Element>> rows(n);
-    for (std::size_t i = 0; i < n; ++i) rows[id[i]] = static_cast<std::underlying_type_t<Element>>(field[i]);
+    for (std::size_t i = 0; i < n; ++i) rows[row[i]] = static_cast<std::underlying_type_t<Element>>(field[i]);
     out.values = std::move(rows);
   } else if constexpr (std::is_arithmetic_v<Element>) {
     std::vector<Element> rows(n);
-    for (std::size_t i = 0; i < n; ++i) rows[id[i]] = field[i];
+    for (std::size_t i = 0; i < n; ++i) rows[row[i]] = field[i];
     out.values = std::move(rows);
   } else {
     constexpr std::size_t dim = std::tuple_size_v<Field>;
     std::vector<typename Element::value_type> rows(dim * n);
     for (std::size_t i = 0; i < n; ++i)
-      for (std::size_t d = 0; d < dim; ++d) rows[dim * id[i] + d] = field[d][i];
+      for (std::size_t d = 0; d < dim; ++d) rows[dim * row[i] + d] = field[d][i];
     out.vector = true;
     out.values = std::move(rows);
   }
