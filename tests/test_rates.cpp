@@ -12,6 +12,7 @@
 
 #include "sluice/core/particles.hpp"
 #include "sluice/neighbors/cell_grid.hpp"
+#include "sluice/physics/fluid_sums.hpp"
 #include "sluice/physics/kernel.hpp"
 #include "sluice/physics/pair_terms.hpp"
 #include "sluice/physics/rates.hpp"
@@ -272,6 +273,74 @@ TEST(Rates, SinglePrecisionMatchesBruteForceOnEveryTarget) {
     compare_with_brute_force<3, CubicSpline<3>, false>(2, 1.0, true);
     compare_with_brute_force<3, WendlandC2<3>, true>(1, 0.0, true);
     compare_with_brute_force<2, CubicSpline<2>, false>(2, 1.0, true, 0.0);
+  });
+}
+
+namespace {
+
+// The fluid sums at a point (physics/fluid_sums.hpp, mDBC's ghost nodes) against their definition
+// summed over every particle: points inside the block, at its edges, under its floor among the wall
+// particles, and beyond it with no fluid in reach.
+template <int Dim, class Kernel>
+void compare_fluid_sums_with_brute_force() {
+  const double dx = 0.02, h = 1.3 * dx, mass = 1000.0 * std::pow(dx, Dim);
+  Particles<Dim> p = jittered_block<Dim>(dx, 11);
+  const Kernel kernel(h);
+  CellGrid<Dim> grid = block_grid<Dim>(Kernel::support * h);
+  std::vector<double> scratch;
+  grid.bin(p.position);
+  p.permute(grid.order(), scratch, false, 1);
+  FluidIndex index;
+  index.build(p);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> across(-0.08, 0.3);
+  int with_fluid = 0, without = 0;
+  for (int k = 0; k < 200; ++k) {
+    Vec<Dim> x{};
+    for (int d = 0; d < Dim; ++d) x[d] = across(rng);
+    if (k == 0) x.fill(0.5);  // far from everything
+    const FluidSums<Dim> got = fluid_sums_at<Dim>(p, grid, AnyKernel<Dim>(kernel), mass, index, x);
+    LinearFit<Dim> fit;
+    Vec<Dim> velocity{};
+    int neighbours = 0;
+    double densest = 0.0;
+    for (std::size_t j = 0; j < p.size(); ++j) {
+      if (p.kind[j] != Kind::fluid) continue;
+      std::array<double, Dim> y{};
+      double r2 = 0.0;
+      for (int d = 0; d < Dim; ++d) {
+        y[d] = (p.position[d][j] - x[d]) / h;
+        r2 += (p.position[d][j] - x[d]) * (p.position[d][j] - x[d]);
+      }
+      if (r2 >= Kernel::support * Kernel::support * h * h) continue;
+      const double w = kernel.value(std::sqrt(r2)) * mass / p.density[j];
+      fit.add(w, y, p.density[j]);
+      for (int d = 0; d < Dim; ++d) velocity[d] += w * p.velocity[d][j];
+      ++neighbours;
+      densest = std::max(densest, p.density[j]);
+    }
+    (neighbours > 0 ? with_fluid : without) += 1;
+    EXPECT_EQ(got.neighbours, neighbours) << "point " << k;
+    EXPECT_EQ(got.densest, densest) << "point " << k;
+    const double scale = 1000.0 * std::max(1.0, fit.weight());
+    for (int a = 0; a <= Dim; ++a) {
+      EXPECT_NEAR(got.fit.rhs[a], fit.rhs[a], 1e-12 * scale) << "point " << k;
+      for (int b = 0; b <= Dim; ++b) EXPECT_NEAR(got.fit.moments[a][b], fit.moments[a][b], 1e-12 * scale);
+    }
+    for (int d = 0; d < Dim; ++d) EXPECT_NEAR(got.velocity[d], velocity[d], 1e-12 * scale) << "point " << k;
+  }
+  EXPECT_GT(with_fluid, 30);
+  EXPECT_GT(without, 5);
+}
+
+}  // namespace
+
+TEST(FluidSums, EverySimdTargetMatchesBruteForce) {
+  on_every_simd_target([] {
+    compare_fluid_sums_with_brute_force<2, CubicSpline<2>>();
+    compare_fluid_sums_with_brute_force<2, WendlandC2<2>>();
+    compare_fluid_sums_with_brute_force<3, CubicSpline<3>>();
+    compare_fluid_sums_with_brute_force<3, WendlandC2<3>>();
   });
 }
 

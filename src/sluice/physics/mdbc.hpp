@@ -40,6 +40,7 @@
 #include "sluice/geometry/wall_ghosts.hpp"
 #include "sluice/neighbors/cell_grid.hpp"
 #include "sluice/physics/eos.hpp"
+#include "sluice/physics/fluid_sums.hpp"
 
 namespace sluice {
 
@@ -57,48 +58,25 @@ struct GhostReading {
   bool found = false;    // any fluid within the support of the ghost
 };
 
-// The fit at ghost node `ghost` for the wall particle at `wall`. `grid` binned on the current order.
-template <int Dim, class Kernel>
-GhostReading<Dim> read_ghost(const Particles<Dim>& p, const CellGrid<Dim>& grid, const Kernel& kernel, double mass,
-                             const TaitEos& eos, const Vec<Dim>& gravity, const Vec<Dim>& ghost, const Vec<Dim>& wall) {
-  const double support = Kernel::support * kernel.h, inv_h = 1.0 / kernel.h;
-  LinearFit<Dim> fit;
-  Vec<Dim> sum_v{};
-  Vec<Dim> lower = ghost, upper = ghost;
-  for (int d = 0; d < Dim; ++d) lower[d] -= support, upper[d] += support;
-  int neighbours = 0;
-  double densest = 0.0;
-  grid.for_each_range_in_box(lower, upper, [&](std::uint32_t begin, std::uint32_t end) {
-    for (std::uint32_t j = begin; j < end; ++j) {
-      if (p.kind[j] != Kind::fluid) continue;
-      std::array<double, Dim> y{};
-      double r2 = 0.0;
-      for (int d = 0; d < Dim; ++d) {
-        const double r = p.position[d][j] - ghost[d];
-        r2 += r * r;
-        y[d] = r * inv_h;
-      }
-      if (r2 >= support * support) continue;
-      const double w = kernel.value(std::sqrt(r2)) * mass / p.density[j];
-      fit.add(w, y, p.density[j]);
-      densest = std::max(densest, p.density[j]);
-      for (int d = 0; d < Dim; ++d) sum_v[d] += w * p.velocity[d][j];
-      ++neighbours;
-    }
-  });
+// The fit at ghost node `ghost` for the wall particle at `wall`, from the sums over the fluid around
+// the ghost (physics/fluid_sums.hpp; h the smoothing length they were taken with).
+template <int Dim>
+GhostReading<Dim> read_ghost(const FluidSums<Dim>& sums, double h, const TaitEos& eos, const Vec<Dim>& gravity,
+                             const Vec<Dim>& ghost, const Vec<Dim>& wall) {
+  const LinearFit<Dim>& fit = sums.fit;
   GhostReading<Dim> g;
   g.found = fit.weight() > 0.0;
   if (!g.found) return g;
-  g.velocity = (1.0 / fit.weight()) * sum_v;
-  if (neighbours > Dim && fit.weight() >= kFirstOrderCompleteness) {
+  g.velocity = (1.0 / fit.weight()) * sums.velocity;
+  if (sums.neighbours > Dim && fit.weight() >= kFirstOrderCompleteness) {
     if (const auto coef = fit.solve()) {
       g.density = (*coef)[0];
-      for (int d = 0; d < Dim; ++d) g.density += (*coef)[d + 1] * (wall[d] - ghost[d]) * inv_h;
+      for (int d = 0; d < Dim; ++d) g.density += (*coef)[d + 1] * (wall[d] - ghost[d]) / h;
       // No denser than the densest water around the ghost plus the hydrostatic rise over the distance
       // to the wall particle: in a splash the fit can extrapolate wildly (measured: 2732 kg/m^3 at a
       // wall particle under the run-up of the obstacle case).
       const double rise = eos.rest_density * norm(gravity) * norm(wall - ghost) / (eos.sound_speed * eos.sound_speed);
-      g.density = std::min(g.density, densest + rise);
+      g.density = std::min(g.density, sums.densest + rise);
       return g;
     }
   }
@@ -129,6 +107,9 @@ struct MdbcWalls {
   void before_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const Kernel& kernel, const TaitEos& eos,
                     const std::type_identity_t<Vec<Dim>>& gravity, int threads) const {
     const auto& g = *static_cast<const WallGhosts<Dim>*>(ghosts.get());
+    const AnyKernel<Dim> any_kernel(kernel);
+    FluidIndex fluid;
+    fluid.build(p);
     // Each iteration reads fluid particles and writes one wall particle: no races.
     parallel::for_each_dynamic(static_cast<long>(p.size()), threads, 256, [&](long i) {
       const auto w = static_cast<std::size_t>(i);
@@ -139,7 +120,7 @@ struct MdbcWalls {
       Vec<Dim> v{};
       if (g.of(p.id[w])) {
         const Vec<Dim>& ghost = g.node[p.id[w]];
-        r = read_ghost<Dim>(p, grid, kernel, mass, eos, gravity, ghost, x);
+        r = read_ghost<Dim>(fluid_sums_at<Dim>(p, grid, any_kernel, mass, fluid, ghost), kernel.h, eos, gravity, ghost, x);
         if (r.found && slip == WallSlip::no_slip) v = -1.0 * r.velocity;
         if (r.found && slip == WallSlip::free_slip) {
           const Vec<Dim> n = (1.0 / norm(ghost - x)) * (ghost - x);

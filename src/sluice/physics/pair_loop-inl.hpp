@@ -378,8 +378,83 @@ void shepard_loop(Particles<Dim>& p, const CellGrid<Dim>& grid, double h, double
   p.density.swap(out);
 }
 
+// The sums over the fluid around `point` (physics/fluid_sums.hpp): the candidates of the cells that
+// the support's bounding box touches, a vector at a time (ranges without a fluid particle passed
+// over), the lanes outside the support, past a range's end or of wall particles weighing nothing.
+// Sums in vectors, reduced at the end: the order depends on the target, not on the thread.
+template <int Dim, class Kernel>
+FluidSums<Dim> fluid_sums_loop(const Particles<Dim>& p, const CellGrid<Dim>& grid, double h, double mass,
+                               const FluidIndex& index, const Vec<Dim>& point) {
+  constexpr int M = Dim + 1;  // the fit's unknowns: y_0 = 1, y_1..y_Dim = (x_j - point) / h
+  const Kernel kernel(h);
+  const double support = Kernel::support * h, inv_h = 1.0 / h;
+  const simd::D d;
+  const std::size_t N = hn::Lanes(d), size = p.size();
+  const auto support2 = hn::Set(d, support * support);
+  Vec<Dim> lower = point, upper = point;
+  for (int c = 0; c < Dim; ++c) lower[c] -= support, upper[c] += support;
+  std::array<Pack, M*(M + 1) / 2> moment;  // sum w y_a y_b, a <= b, row by row
+  std::array<Pack, M> rhs;                  // sum w rho y_a
+  std::array<Pack, Dim> velocity;           // sum w v
+  moment.fill(0.0);
+  rhs.fill(0.0);
+  velocity.fill(0.0);
+  Pack densest = 0.0;
+  std::size_t neighbours = 0;
+  const double* const fluid = index.fluid.data();
+  const std::uint32_t* const before = index.before.data();
+  const double* const rho_of = p.density.data();
+  std::array<const double*, Dim> x, v;
+  for (int c = 0; c < Dim; ++c) x[c] = p.position[c].data(), v[c] = p.velocity[c].data();
+  // The ranges as data, looped over here: a callback through CellGrid, compiled for the baseline,
+  // could not inline this target's code (nor does GCC inline a lambda with this loop), and the sums
+  // would live in memory.
+  const auto ranges = grid.ranges_in_box(lower, upper);
+  for (int range = 0; range < ranges.count; ++range) {
+    const auto [begin, end] = ranges.range[range];
+    if (before[end] == before[begin]) continue;
+    for (std::uint32_t j = begin; j < end; j += static_cast<std::uint32_t>(N)) {
+      const std::size_t lanes = std::min<std::size_t>(N, end - j);
+      std::array<Pack, Dim> r;
+      auto r2 = hn::Zero(d);
+      for (int c = 0; c < Dim; ++c) {
+        r[c] = simd::load_within(x[c], j, lanes, size, point[c]) - Pack(point[c]);
+        r2 = hn::MulAdd(r[c].v, r[c].v, r2);
+      }
+      // The lanes past the range hold the point itself (r = 0) and fluid = 0: they never count.
+      const simd::Mask near{hn::And(hn::Lt(r2, support2),
+                                    hn::Ne(simd::load_within(fluid, j, lanes, size, 0.0).v, hn::Zero(d)))};
+      if (hn::AllFalse(d, near.m)) continue;
+      const Pack rho = simd::load_within(rho_of, j, lanes, size, 1.0);
+      const Pack w =
+          simd::select(near, shape::value_inside(kernel, simd::sqrt(Pack(r2))) * simd::quotient(Pack(mass), rho), 0.0);
+      std::array<Pack, M> y;
+      y[0] = 1.0;
+      for (int c = 0; c < Dim; ++c) y[c + 1] = r[c] * inv_h;
+      for (int a = 0, k = 0; a < M; ++a) {
+        const Pack wy = w * y[a];
+        rhs[a] += wy * rho;
+        for (int b = a; b < M; ++b) moment[k++] += wy * y[b];
+      }
+      for (int c = 0; c < Dim; ++c) velocity[c] += w * simd::load_within(v[c], j, lanes, size, 0.0);
+      densest = simd::max(densest, simd::select(near, rho, 0.0));
+      neighbours += hn::CountTrue(d, near.m);
+    }
+  }
+  FluidSums<Dim> s;
+  for (int a = 0, k = 0; a < M; ++a) {
+    s.fit.rhs[a] = simd::reduce_add(rhs[a]);
+    for (int b = a; b < M; ++b, ++k) s.fit.moments[a][b] = s.fit.moments[b][a] = simd::reduce_add(moment[k]);
+  }
+  for (int c = 0; c < Dim; ++c) s.velocity[c] = simd::reduce_add(velocity[c]);
+  s.neighbours = static_cast<int>(neighbours);
+  s.densest = simd::reduce_max(densest);
+  return s;
+}
+
 // The loops of one kernel and wall pair traits with pairs in precision R, entered in the table; with
-// R = double, the kernel's Shepard filter and shifting sums too (those are in double precision only).
+// R = double, the kernel's Shepard filter, shifting sums and fluid sums too (those are in double
+// precision only).
 template <int Dim, class R, std::size_t K, std::size_t W>
 void add_rate_loops(DimensionLoops<Dim>& loops) {
   using Kernel = std::variant_alternative_t<K, AnyKernel<Dim>>;
@@ -390,6 +465,7 @@ void add_rate_loops(DimensionLoops<Dim>& loops) {
   if constexpr (W == 0 && single == 0) {
     loops.shepard[K] = &shepard_loop<Dim, Kernel>;
     loops.shifting[K] = &shifting_loop<Dim, Kernel>;
+    loops.fluid_sums[K] = &fluid_sums_loop<Dim, Kernel>;
   }
 }
 

@@ -128,6 +128,17 @@ void shifting_sums(const Particles<Dim>& p, const CellGrid<Dim>& grid, const Any
   loops().template of<Dim>().shifting[kernel.index()](p, grid, settings, fluid, out, threads);
 }
 
+template <int Dim>
+FluidSums<Dim> fluid_sums_at(const Particles<Dim>& p, const CellGrid<Dim>& grid, const AnyKernel<Dim>& kernel,
+                             double mass, const FluidIndex& fluid, const Vec<Dim>& point) {
+  const double h = std::visit([](const auto& k) { return k.h; }, kernel);
+  return loops().template of<Dim>().fluid_sums[kernel.index()](p, grid, h, mass, fluid, point);
+}
+
+template FluidSums<2> fluid_sums_at<2>(const Particles<2>&, const CellGrid<2>&, const AnyKernel<2>&, double,
+                                       const FluidIndex&, const Vec<2>&);
+template FluidSums<3> fluid_sums_at<3>(const Particles<3>&, const CellGrid<3>&, const AnyKernel<3>&, double,
+                                       const FluidIndex&, const Vec<3>&);
 template RateSummary compute_rates<2>(Particles<2>&, const CellGrid<2>&, const AnyKernel<2>&, const WallTreatment&,
                                       const RateSettings<2>&, const ParticleTerms&, int);
 template RateSummary compute_rates<3>(Particles<3>&, const CellGrid<3>&, const AnyKernel<3>&, const WallTreatment&,

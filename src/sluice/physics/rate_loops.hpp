@@ -1,8 +1,8 @@
 // The table of compiled pair loops of one instruction set (physics/pair_loop-inl.hpp enters them,
 // a dimension and precision at a time; physics/pair_loop.cpp puts each target's table together and
 // picks the CPU's best): a function per dimension, kernel, wall pair traits, artificial-pressure
-// switch and precision of the pairs, and a Shepard filter and the sums of particle shifting per
-// dimension and kernel.
+// switch and precision of the pairs, and a Shepard filter, the sums of particle shifting and the fluid
+// sums at a point (mDBC's ghost nodes) per dimension and kernel.
 #pragma once
 
 #include <array>
@@ -10,6 +10,7 @@
 #include <variant>
 #include <vector>
 
+#include "sluice/physics/fluid_sums.hpp"
 #include "sluice/physics/rates.hpp"
 
 namespace sluice {
@@ -29,11 +30,16 @@ using ShiftingLoop = void (*)(const Particles<Dim>&, const CellGrid<Dim>&, const
                               const std::array<double*, 2 * Dim + 1>& out, int threads);
 
 template <int Dim>
+using FluidSumsLoop = FluidSums<Dim> (*)(const Particles<Dim>&, const CellGrid<Dim>&, double h, double mass,
+                                         const FluidIndex&, const Vec<Dim>& point);
+
+template <int Dim>
 struct DimensionLoops {
   // [kernel][wall pair traits][with artificial pressure][single-precision pairs]
   RateLoop<Dim> rates[kKernels][kPairWallTraits][2][2];
   ShepardLoop<Dim> shepard[kKernels];
   ShiftingLoop<Dim> shifting[kKernels];
+  FluidSumsLoop<Dim> fluid_sums[kKernels];
 };
 
 struct RateLoops {

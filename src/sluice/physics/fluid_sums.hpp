@@ -1,0 +1,60 @@
+// Sums over the fluid particles around a point, as a first-order fit there needs them: the moments
+// of LinearFit (core/linear_fit.hpp) of the density with the weights V_j W(|x_j - x|), V_j = m / rho_j,
+// the weighted velocity sum, the number of fluid particles in the support and the densest of them.
+// The mDBC walls read their ghost nodes with them (physics/mdbc.hpp).
+//
+// The sums run in the vector code compiled once per instruction set (physics/pair_loop-inl.hpp,
+// fluid_sums_at), the candidates a vector at a time as in the Shepard filter; the dispatch picks the
+// same target as the pair loop's.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "sluice/core/linear_fit.hpp"
+#include "sluice/core/particles.hpp"
+#include "sluice/core/vec.hpp"
+#include "sluice/neighbors/cell_grid.hpp"
+#include "sluice/physics/kernel.hpp"
+
+namespace sluice {
+
+template <int Dim>
+struct FluidSums {
+  LinearFit<Dim> fit;     // of the density, y = (x_j - x) / h
+  Vec<Dim> velocity{};    // sum_j V_j W_j v_j
+  int neighbours = 0;     // fluid particles within the support
+  double densest = 0.0;   // their largest density (0 with none)
+};
+
+// Which particles are fluid, as the vector sums read it: 1 or 0 per particle, and the number of
+// fluid particles before each index (so that a range of candidates without one is passed over).
+struct FluidIndex {
+  std::vector<double> fluid;
+  std::vector<std::uint32_t> before;  // size n + 1
+
+  template <int Dim>
+  void build(const Particles<Dim>& p) {
+    const std::size_t n = p.size();
+    fluid.resize(n);
+    before.resize(n + 1);
+    before[0] = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      fluid[i] = p.kind[i] == Kind::fluid ? 1.0 : 0.0;
+      before[i + 1] = before[i] + (p.kind[i] == Kind::fluid ? 1u : 0u);
+    }
+  }
+};
+
+// The sums over the fluid particles within the kernel support of `point` (`grid` binned on the
+// current order, `fluid` built on it).
+template <int Dim>
+FluidSums<Dim> fluid_sums_at(const Particles<Dim>& p, const CellGrid<Dim>& grid, const AnyKernel<Dim>& kernel,
+                             double mass, const FluidIndex& fluid, const Vec<Dim>& point);
+
+extern template FluidSums<2> fluid_sums_at<2>(const Particles<2>&, const CellGrid<2>&, const AnyKernel<2>&, double,
+                                              const FluidIndex&, const Vec<2>&);
+extern template FluidSums<3> fluid_sums_at<3>(const Particles<3>&, const CellGrid<3>&, const AnyKernel<3>&, double,
+                                              const FluidIndex&, const Vec<3>&);
+
+}  // namespace sluice
