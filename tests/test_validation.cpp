@@ -146,10 +146,12 @@ TEST(QuickValidation, Spheric2ReachesTheObstacleOnTime) {
   ASSERT_TRUE(c.count("spheric2.p1_impact_time"));
   for (const char* id : {"spheric2.P1", "spheric2.P4", "spheric2.H2", "spheric2.H4"}) ASSERT_TRUE(m.count(id)) << id;
   for (const auto& [id, value] : m) std::cout << "measured " << id << " RMS = " << value.first << "\n";
-  // Measured at this resolution: impact 0.087 s late, H2 RMS 0.049 m, H4 RMS 0.021 m (over 1 s).
-  EXPECT_LE(c.at("spheric2.p1_impact_time"), 0.15);
-  EXPECT_LE(m.at("spheric2.H2").first, 0.08);
-  EXPECT_LE(m.at("spheric2.H4").first, 0.035);
+  // Measured at this resolution over 0.8 s with the case's mDBC walls: impact 0.041 s late, H2 RMS
+  // 0.014 m, H4 RMS 0.006 m (the dynamic walls: 0.087 s, 0.049 m and 0.021 m over 1 s). The bounds
+  // leave room for another instruction set's round-off, not for the dynamic walls' numbers.
+  EXPECT_LE(c.at("spheric2.p1_impact_time"), 0.07);
+  EXPECT_LE(m.at("spheric2.H2").first, 0.03);
+  EXPECT_LE(m.at("spheric2.H4").first, 0.015);
   // The reservoir drains: H4's largest difference stays within a few particle spacings.
   EXPECT_LE(m.at("spheric2.H4").second, 0.06);
   std::error_code ec;
