@@ -15,7 +15,6 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -171,19 +170,13 @@ class CellGrid {
     for (int k = 0; k < r.count; ++k) f(r.range[k].first, r.range[k].second);
   }
 
-  // The ranges of for_each_range_in_box, as data, for a box no wider than two cells along any axis
-  // (a point's kernel support: at most three cells per axis). A wider box is a logic error.
-  [[nodiscard]] NeighborRanges ranges_in_box(const std::array<double, Dim>& lower,
-                                             const std::array<double, Dim>& upper) const {
-    std::array<int, Dim> lo{}, hi{};
-    for (int k = 0; k < Dim; ++k) {
-      lo[k] = grid_coordinate(lower[axis_[k]], k);
-      hi[k] = grid_coordinate(upper[axis_[k]], k);
-      if (hi[k] - lo[k] > 2) throw std::logic_error("CellGrid::ranges_in_box: a box wider than two cells");
-    }
-    NeighborRanges r;
-    for_each_range_in_box(lower, upper, [&](std::uint32_t begin, std::uint32_t end) { r.add(begin, end); });
-    return r;
+  // The cell that holds point x (clamped into the grid, as particles are binned): with
+  // neighbor_ranges, the candidates within one cell size of any point.
+  [[nodiscard]] std::uint32_t cell_at(const std::array<double, Dim>& x) const {
+    std::uint32_t c = 0;
+    for (int k = Dim - 1; k >= 0; --k)
+      c = c * static_cast<std::uint32_t>(count_[k]) + static_cast<std::uint32_t>(grid_coordinate(x[axis_[k]], k));
+    return c;
   }
 
   // Calls f(begin, end) for each contiguous range of (sorted) particle indices covering the cells

@@ -47,7 +47,7 @@ struct FluidIndex {
 };
 
 // The sums over the fluid particles within the kernel support of `point` (`grid` binned on the
-// current order, `fluid` built on it).
+// current order, with cells at least the support wide, as the solver's are; `fluid` built on it).
 template <int Dim>
 FluidSums<Dim> fluid_sums_at(const Particles<Dim>& p, const CellGrid<Dim>& grid, const AnyKernel<Dim>& kernel,
                              double mass, const FluidIndex& fluid, const Vec<Dim>& point);

@@ -378,8 +378,8 @@ void shepard_loop(Particles<Dim>& p, const CellGrid<Dim>& grid, double h, double
   p.density.swap(out);
 }
 
-// The sums over the fluid around `point` (physics/fluid_sums.hpp): the candidates of the cells that
-// the support's bounding box touches, a vector at a time (ranges without a fluid particle passed
+// The sums over the fluid around `point` (physics/fluid_sums.hpp): the candidates of the cells next
+// to the point's, a vector at a time (ranges without a fluid particle passed
 // over), the lanes outside the support, past a range's end or of wall particles weighing nothing.
 // Sums in vectors, reduced at the end: the order depends on the target, not on the thread.
 template <int Dim, class Kernel>
@@ -391,8 +391,6 @@ FluidSums<Dim> fluid_sums_loop(const Particles<Dim>& p, const CellGrid<Dim>& gri
   const simd::D d;
   const std::size_t N = hn::Lanes(d), size = p.size();
   const auto support2 = hn::Set(d, support * support);
-  Vec<Dim> lower = point, upper = point;
-  for (int c = 0; c < Dim; ++c) lower[c] -= support, upper[c] += support;
   std::array<Pack, M*(M + 1) / 2> moment;  // sum w y_a y_b, a <= b, row by row
   std::array<Pack, M> rhs;                  // sum w rho y_a
   std::array<Pack, Dim> velocity;           // sum w v
@@ -406,10 +404,10 @@ FluidSums<Dim> fluid_sums_loop(const Particles<Dim>& p, const CellGrid<Dim>& gri
   const double* const rho_of = p.density.data();
   std::array<const double*, Dim> x, v;
   for (int c = 0; c < Dim; ++c) x[c] = p.position[c].data(), v[c] = p.velocity[c].data();
-  // The ranges as data, looped over here: a callback through CellGrid, compiled for the baseline,
-  // could not inline this target's code (nor does GCC inline a lambda with this loop), and the sums
-  // would live in memory.
-  const auto ranges = grid.ranges_in_box(lower, upper);
+  // The cells around the point's (the grid's cells are the support wide), as data, looped over here:
+  // a callback through CellGrid, compiled for the baseline, could not inline this target's code (nor
+  // does GCC inline a lambda with this loop), and the sums would live in memory.
+  const auto ranges = grid.neighbor_ranges(grid.cell_at(point));
   for (int range = 0; range < ranges.count; ++range) {
     const auto [begin, end] = ranges.range[range];
     if (before[end] == before[begin]) continue;
