@@ -106,6 +106,22 @@ TEST(Series, FindsTheFirstRiseToALevel) {
   EXPECT_FALSE(first_rise_to(s, 0.7, 2.5));
 }
 
+TEST(Series, BestLagRecoversAKnownDelay) {
+  // A level falling as a water column's does, sampled every ms, and the same fall 27 ms later sampled
+  // every 10 ms (as a gauge's probe file is).
+  const auto level = [](double t) { return t <= 0.0 ? 0.55 : 0.55 - 0.5 * t * t - 0.05 * t; };
+  const Series reference = sampled(0.0, 0.6, 0.001, level);
+  const Series later = sampled(0.0, 0.6, 0.01, [&](double t) { return level(t - 0.027); });
+  const Lag lag = best_lag(later, reference, 0.05, 0.4, 0.15, 0.001);
+  EXPECT_NEAR(lag.shift, 0.027, 1e-9);
+  EXPECT_LT(lag.rms, 1e-4);
+  // Earlier is a negative shift; the same series has none.
+  EXPECT_NEAR(best_lag(reference, later, 0.05, 0.4, 0.15, 0.001).shift, -0.027, 1e-9);
+  EXPECT_NEAR(best_lag(reference, reference, 0.05, 0.4, 0.15, 0.001).shift, 0.0, 1e-12);
+  EXPECT_THROW(best_lag(later, reference, 0.05, 0.4, 0.15, 0.0), AnalysisError);
+  EXPECT_THROW(best_lag(later, reference, 5.0, 6.0, 0.15, 0.001), AnalysisError);
+}
+
 TEST(Series, PeriodOfASineFromZeroCrossingsAndAutocorrelation) {
   const double period = 1.7;
   const Series s = sampled(0.0, 20.0, 0.01, [&](double t) { return 5.0 + 0.3 * std::sin(2 * std::numbers::pi * t / period + 0.4); });

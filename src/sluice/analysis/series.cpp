@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 namespace sluice::analysis {
@@ -86,6 +87,29 @@ std::optional<double> first_rise_to(const Series& s, double level, double t_from
     return s.t[i - 1] + w * (s.t[i] - s.t[i - 1]);
   }
   return std::nullopt;
+}
+
+Lag best_lag(const Series& later, const Series& reference, double t_min, double t_max, double max_shift, double step) {
+  if (!(step > 0.0) || !(max_shift >= 0.0)) throw AnalysisError("best_lag: the step must be positive and the range not negative");
+  Lag best{0.0, std::numeric_limits<double>::infinity()};
+  const long steps = std::lround(max_shift / step);
+  for (long k = -steps; k <= steps; ++k) {
+    const double shift = static_cast<double>(k) * step;
+    double sum = 0.0;
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < reference.size(); ++i) {
+      if (reference.t[i] < t_min || reference.t[i] > t_max) continue;
+      const auto y = interpolate(later, reference.t[i] + shift);
+      if (!y) continue;
+      sum += (*y - reference.y[i]) * (*y - reference.y[i]);
+      ++n;
+    }
+    if (n == 0) continue;
+    const double rms = std::sqrt(sum / static_cast<double>(n));
+    if (rms < best.rms) best = {shift, rms};
+  }
+  if (!std::isfinite(best.rms)) throw AnalysisError("best_lag: no shift leaves a reference sample covered");
+  return best;
 }
 
 std::vector<double> zero_crossings(const Series& s, double mean, double t_from) {

@@ -53,6 +53,16 @@ LineFit fit_line(const Series& s, double t_min, double t_max);
 // interpolated between the two samples around it; nullopt if it never does.
 std::optional<double> first_rise_to(const Series& s, double level, double t_from = -1e300);
 
+// How far `later` runs behind `reference`: the shift s in [-max_shift, max_shift] (in steps of `step`)
+// that minimises the RMS of later(t + s) - reference(t) over the reference's samples with t in
+// [t_min, t_max] (those where later(t + s) is covered count). Positive: `later` shows the same values s
+// later. Throws AnalysisError when no shift covers a sample.
+struct Lag {
+  double shift = 0.0;
+  double rms = 0.0;  // at that shift
+};
+Lag best_lag(const Series& later, const Series& reference, double t_min, double t_max, double max_shift, double step);
+
 // Times at which y - mean crosses zero (either direction), linearly interpolated, for t >= t_from.
 std::vector<double> zero_crossings(const Series& s, double mean, double t_from = -1e300);
 

@@ -5,6 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <optional>
+#include <string>
+#include <utility>
 
 #include "sluice/analysis/reference_data.hpp"
 #include "sluice/analysis/svg_plot.hpp"
@@ -112,6 +116,36 @@ void check_p1(ValidationResult& r, const Series& sim, const Series& data, double
       p_sim, t_sim, p_data, t_data));
 }
 
+// When the collapse happens: the water's arrival at H2 (the level first 5 mm or more), and how far
+// the fall of the reservoir's level at H4 runs behind the experiment's (the shift that best matches
+// the two falls from their initial levels while the water runs out, 0.05 <= t <= 0.4 s, before it
+// reaches the obstacle). A late P1 impact with H4 on time would be the front's doing (its speed, the
+// floor); with H4 late by as much, it is the collapse's.
+void note_collapse_timing(ValidationResult& r, const Series& h2_sim, const Series& h2_data, const Series& h4_sim,
+                          const Series& h4_data) {
+  constexpr double wet = 0.005;
+  const auto h2_at_data = first_rise_to(h2_data, wet), h2_at_sim = first_rise_to(h2_sim, wet);
+  const auto time = [](const std::optional<double>& t) { return t ? fmt::format("{:.3f} s", *t) : std::string("never"); };
+  // Each level relative to its start (the data's as the mean over its first 10 ms of samples).
+  const auto fall = [](Series s, double t_start) {
+    double sum = 0.0;
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < s.size() && (n == 0 || s.t[i] <= t_start); ++i) sum += s.y[i], ++n;
+    const double start = sum / static_cast<double>(n);
+    for (double& y : s.y) y -= start;
+    return s;
+  };
+  std::string h4;
+  if (!h4_sim.empty() && h4_sim.t.back() >= 0.4) {
+    const Lag lag = best_lag(fall(h4_sim, 0.0), fall(h4_data, 0.01), 0.05, 0.4, 0.15, 0.001);
+    h4 = fmt::format(" The reservoir's level at H4 falls {:.3f} s {} the experiment's (the shift that best matches the "
+                     "two falls from their initial levels over 0.05 <= t <= 0.4 s, RMS {:.1f} mm there).",
+                     std::abs(lag.shift), lag.shift >= 0.0 ? "after" : "before", lag.rms * 1e3);
+  }
+  r.notes.push_back(fmt::format("The collapse: the water reaches H2 (level {:g} mm or more) at {} (the experiment: {}).{}",
+                                wet * 1e3, time(h2_at_sim), time(h2_at_data), h4));
+}
+
 }  // namespace
 
 ValidationResult evaluate_spheric2(const Case& c, const fs::path& run_dir, const ValidationBounds& b) {
@@ -132,6 +166,7 @@ ValidationResult evaluate_spheric2(const Case& c, const fs::path& run_dir, const
       {"P4", "pressure", "P4_Pa", "pressure P4 on the obstacle, z = 0.141 m", "kPa", 1e-3},
       {"H2", "height", "H2_m", "water level H2 at x = 0.992 m", "m", 1.0},
       {"H4", "height", "H4_m", "water level H4 at x = 2.638 m", "m", 1.0}};
+  std::map<std::string, std::pair<Series, Series>> levels;  // simulated and measured, by probe
   for (const Signal& s : signals) {
     const Series sim = probe_column(run_dir, s.probe, s.column, s.scale);
     const Series data = scaled_column(table, s.data_column, s.scale);
@@ -140,7 +175,9 @@ ValidationResult evaluate_spheric2(const Case& c, const fs::path& run_dir, const
                              fmt::format("0 <= t <= {:g} s", t_end), compare(sim, data, 0.0, t_end)});
     r.figures.push_back(signal_figure(s, c, sim, data, table));
     if (s.probe == "P1") check_p1(r, sim, data, rho_g_h, b);
+    levels[s.probe] = {sim, data};
   }
+  note_collapse_timing(r, levels["H2"].first, levels["H2"].second, levels["H4"].first, levels["H4"].second);
   r.notes.insert(r.notes.begin(),
                  fmt::format("Pressures in kPa (rho g H = {:.2f} kPa for H = 0.55 m), levels in m, time in s from the "
                              "release; RMS against every 1 ms sample of the experiment in the window. The pressure is "
