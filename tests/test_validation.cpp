@@ -196,6 +196,10 @@ TEST(AnalysisCommands, BadInputIsAClearError) {
       {"validate --quick --set physics.wall_boundary=adamy", "expected one of \"dynamic\", \"adami\""},
       {"validate --set domain.no_such_key=1", "domain.no_such_key"},
       {"validate --case spheric2 --set 'physics.gravity=[0, -9.81]'", "2 components in a 3D case"},
+      // A case changed away from its experiment is refused before it runs (it used to run first).
+      {"validate --case spheric2 --set 'water[0].max=[3.22, 1.0, 0.5]'", "the SPHERIC test 2 data are for a 3D tank"},
+      {"validate --case buchner --set tank.width=3", "the Buchner data are for a column 2H wide"},
+      {"validate --case martin_moyce --set 'physics.gravity=[0.1, -9.81]'", "assume gravity straight down"},
   };
   for (const auto& c : cases) {
     const Outcome o = run_sluice(c.args);

@@ -93,19 +93,15 @@ Lag best_lag(const Series& later, const Series& reference, double t_min, double 
   if (!(step > 0.0) || !(max_shift >= 0.0)) throw AnalysisError("best_lag: the step must be positive and the range not negative");
   Lag best{0.0, std::numeric_limits<double>::infinity()};
   const long steps = std::lround(max_shift / step);
+  Series shifted = later;
   for (long k = -steps; k <= steps; ++k) {
     const double shift = static_cast<double>(k) * step;
-    double sum = 0.0;
-    std::size_t n = 0;
-    for (std::size_t i = 0; i < reference.size(); ++i) {
-      if (reference.t[i] < t_min || reference.t[i] > t_max) continue;
-      const auto y = interpolate(later, reference.t[i] + shift);
-      if (!y) continue;
-      sum += (*y - reference.y[i]) * (*y - reference.y[i]);
-      ++n;
-    }
-    if (n == 0) continue;
-    const double rms = std::sqrt(sum / static_cast<double>(n));
+    for (std::size_t i = 0; i < later.size(); ++i) shifted.t[i] = later.t[i] - shift;  // shifted(t) = later(t + shift)
+    const bool covered = std::any_of(reference.t.begin(), reference.t.end(), [&](double t) {
+      return t >= t_min && t <= t_max && !shifted.empty() && t >= shifted.t.front() && t <= shifted.t.back();
+    });
+    if (!covered) continue;
+    const double rms = compare(shifted, reference, t_min, t_max).rms;
     if (rms < best.rms) best = {shift, rms};
   }
   if (!std::isfinite(best.rms)) throw AnalysisError("best_lag: no shift leaves a reference sample covered");

@@ -13,6 +13,7 @@
 #include "sluice/analysis/svg_plot.hpp"
 #include "sluice/analysis/table.hpp"
 #include "sluice/case/builtin_cases.hpp"
+#include "sluice/case/case_error.hpp"
 #include "sluice/case/overrides.hpp"
 #include "sluice/io/atomic_file.hpp"
 
@@ -161,6 +162,11 @@ struct FrontCase {
   std::string length_symbol;  // the data's name for the column width L
 };
 
+const FrontCase martin_moyce_front{"martin_moyce", "Martin & Moyce (1952) column collapse",
+                                   "mm1952_n2sq2_a2.25in_front_table2.csv", "Martin & Moyce (1952) Table 2", 3.0, "a"};
+const FrontCase koshizuka_oka_front{"koshizuka_oka", "Koshizuka & Oka (1996) column collapse",
+                                    "koshizuka_oka1996_front_pysph.csv", "Koshizuka & Oka (1996)", 3.1, "L"};
+
 // The simulated front against the data and Ritter's solution, up to a little past the data.
 Figure front_figure(const FrontCase& fc, const Case& c, double length, const Series& front, const Series& reference,
                     const Table& data) {
@@ -183,12 +189,18 @@ Figure front_figure(const FrontCase& fc, const Case& c, double length, const Ser
   return {svg_plot(plot), fmt::format("Front position against {} (markers). Data: {}", fc.data_label, provenance(data))};
 }
 
-ValidationResult evaluate_front_case(const FrontCase& fc, const Case& c, const fs::path& run_dir, double bound) {
+// The column the front data are for: twice as high as wide, in the corner, gravity straight down.
+void check_front_column(const std::string& data_label, const Case& c) {
   const Region& column = water_column(c);
-  const double length = column.max[0];
-  if (std::abs(column.max[1] / length - 2.0) > 1e-9)
+  if (std::abs(column.max[1] / column.max[0] - 2.0) > 1e-9)
     throw AnalysisError(fmt::format("case '{}': the {} data are for a column twice as high as wide; this one is {} x {}",
-                                    c.name, fc.data_label, length, column.max[1]));
+                                    c.name, data_label, column.max[0], column.max[1]));
+  gravity_of(c);
+}
+
+ValidationResult evaluate_front_case(const FrontCase& fc, const Case& c, const fs::path& run_dir, double bound) {
+  check_front_column(fc.data_label, c);
+  const double length = water_column(c).max[0];
   const double g = gravity_of(c);
   ValidationResult r;
   r.case_name = fc.name;
@@ -227,8 +239,7 @@ ValidationResult evaluate_front_case(const FrontCase& fc, const Case& c, const f
 }  // namespace
 
 ValidationResult evaluate_martin_moyce(const Case& c, const fs::path& run_dir, const ValidationBounds& b) {
-  const FrontCase fc{"martin_moyce", "Martin & Moyce (1952) column collapse", "mm1952_n2sq2_a2.25in_front_table2.csv",
-                     "Martin & Moyce (1952) Table 2", 3.0, "a"};
+  const FrontCase& fc = martin_moyce_front;
   ValidationResult r = evaluate_front_case(fc, c, run_dir, b.mm_front_rms);
   const double a = water_column(c).max[0];
   const double g = gravity_of(c);
@@ -257,9 +268,7 @@ ValidationResult evaluate_martin_moyce(const Case& c, const fs::path& run_dir, c
 }
 
 ValidationResult evaluate_koshizuka_oka(const Case& c, const fs::path& run_dir, const ValidationBounds& b) {
-  const FrontCase fc{"koshizuka_oka", "Koshizuka & Oka (1996) column collapse", "koshizuka_oka1996_front_pysph.csv",
-                     "Koshizuka & Oka (1996)", 3.1, "L"};
-  return evaluate_front_case(fc, c, run_dir, b.ko_front_rms);
+  return evaluate_front_case(koshizuka_oka_front, c, run_dir, b.ko_front_rms);
 }
 
 namespace {
@@ -334,15 +343,30 @@ std::optional<std::string> arrival_note(const Case& c, const fs::path& run_dir, 
             : "");
 }
 
-}  // namespace
-
-ValidationResult evaluate_buchner(const Case& c, const fs::path& run_dir, const ValidationBounds& b) {
+// The column and tank the Buchner data are for, gravity straight down.
+void check_buchner_column(const Case& c) {
   const Region& column = water_column(c);
   const double height = column.max[1];
   if (std::abs(column.max[0] / height - 2.0) > 1e-9 || std::abs(c.tank_width / height - 5.366) > 1e-3)
     throw AnalysisError(fmt::format("case '{}': the Buchner data are for a column 2H wide and H high in a tank 5.366H long; "
                                     "this one is {} x {} in a tank {} long",
                                     c.name, column.max[0], height, c.tank_width));
+  gravity_of(c);
+}
+
+}  // namespace
+
+void check_validation_case(const std::string& case_name, const Case& c) {
+  if (case_name == "martin_moyce") check_front_column(martin_moyce_front.data_label, c);
+  else if (case_name == "koshizuka_oka") check_front_column(koshizuka_oka_front.data_label, c);
+  else if (case_name == "buchner") check_buchner_column(c);
+  else if (case_name == "spheric2") check_spheric2_case(c);
+  else throw AnalysisError(fmt::format("no validation case '{}'", case_name));
+}
+
+ValidationResult evaluate_buchner(const Case& c, const fs::path& run_dir, const ValidationBounds& b) {
+  check_buchner_column(c);
+  const double height = water_column(c).max[1];
   const double g = gravity_of(c);
   ValidationResult r;
   r.case_name = "buchner";
@@ -491,6 +515,12 @@ ValidationReport run_validation(const ValidationOptions& options, std::ostream& 
       apply_overrides(c, {fmt::format("domain.dx={:.17g}", length / quick_resolution(name))});
     }
     apply_overrides(c, options.sets);
+    // A case changed so that its data no longer apply is bad input, found before hours of running.
+    try {
+      check_validation_case(name, c);
+    } catch (const AnalysisError& e) {
+      throw CaseError(e.what());
+    }
     cases.push_back(std::move(c));
   }
   create_directories_or_throw(options.output_dir);

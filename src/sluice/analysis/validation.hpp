@@ -79,6 +79,12 @@ ValidationBounds quick_bounds();
 // The column width (or, for Buchner, height) over dx at which --quick runs each case.
 double quick_resolution(const std::string& case_name);
 
+// Throws AnalysisError when the case is not the one its validation data are for (its column, tank or
+// gravity): checked before it runs, and again by its evaluation.
+void check_validation_case(const std::string& case_name, const Case& c);
+// SPHERIC test 2's part of it (analysis/spheric2.cpp).
+void check_spheric2_case(const Case& c);
+
 // Evaluations of a finished run of the case (probes in run_dir/probes/).
 ValidationResult evaluate_martin_moyce(const Case& c, const std::filesystem::path& run_dir, const ValidationBounds& b);
 ValidationResult evaluate_koshizuka_oka(const Case& c, const std::filesystem::path& run_dir, const ValidationBounds& b);
