@@ -3,9 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <random>
 #include <set>
 
+#include "sluice/core/parallel.hpp"
 #include "sluice/core/particles.hpp"
 #include "sluice/neighbors/cell_grid.hpp"
 
@@ -96,21 +98,79 @@ TEST(CellGrid, ParallelSortIsTheSerialStableOrder) {
     pos[0].push_back(std::floor(u(rng) * 8.0) / 8.0 + 0.01);
     pos[1].push_back(u(rng));
   }
-  std::vector<std::uint32_t> expected(n);
-  CellGrid<2> serial({0.0, 0.0}, {4.0, 4.0}, 0.25);
-  serial.bin(pos, 1);
-  for (std::size_t i = 0; i < n; ++i) expected[i] = static_cast<std::uint32_t>(i);
-  std::vector<std::uint32_t> cell(n);
-  for (std::size_t i = 0; i < n; ++i)
-    cell[i] = static_cast<std::uint32_t>(serial.coordinate(pos[1][i], 1) * serial.count(0) + serial.coordinate(pos[0][i], 0));
-  std::stable_sort(expected.begin(), expected.end(), [&](std::uint32_t a, std::uint32_t b) { return cell[a] < cell[b]; });
-  EXPECT_EQ(serial.order(), expected);
-  for (int threads : {2, 3}) {
-    CellGrid<2> grid({0.0, 0.0}, {4.0, 4.0}, 0.25);
-    grid.bin(pos, threads);
-    EXPECT_EQ(grid.order(), expected) << threads << " threads";
-    EXPECT_EQ(grid.cell_start(), serial.cell_start()) << threads << " threads";
-    EXPECT_EQ(grid.cell_of(), serial.cell_of()) << threads << " threads";
+  // Cells fewer than the particles, and (a mostly empty tank) more: the threads share the scan over
+  // the cells.
+  for (double cell_size : {0.25, 0.01}) {
+    std::vector<std::uint32_t> expected(n);
+    CellGrid<2> serial({0.0, 0.0}, {4.0, 4.0}, cell_size);
+    serial.bin(pos, 1);
+    for (std::size_t i = 0; i < n; ++i) expected[i] = static_cast<std::uint32_t>(i);
+    std::vector<std::uint32_t> cell(n);
+    for (std::size_t i = 0; i < n; ++i)
+      cell[i] = static_cast<std::uint32_t>(serial.coordinate(pos[1][i], 1) * serial.count(0) + serial.coordinate(pos[0][i], 0));
+    std::stable_sort(expected.begin(), expected.end(), [&](std::uint32_t a, std::uint32_t b) { return cell[a] < cell[b]; });
+    EXPECT_EQ(serial.order(), expected);
+    for (int threads : {2, 3}) {
+      CellGrid<2> grid({0.0, 0.0}, {4.0, 4.0}, cell_size);
+      grid.bin(pos, threads);
+      EXPECT_EQ(grid.order(), expected) << threads << " threads, cells " << cell_size;
+      EXPECT_EQ(grid.cell_start(), serial.cell_start()) << threads << " threads, cells " << cell_size;
+      EXPECT_EQ(grid.cell_of(), serial.cell_of()) << threads << " threads, cells " << cell_size;
+    }
+  }
+}
+
+// The pair loop's shares of the bands: contiguous, in order, covering every band, and of about equal
+// cost (a fluid particle eight times a wall particle) to within one band's.
+TEST(CellGrid, ThreadBandsAreContiguousRunsOfEqualCost) {
+  const std::size_t n = 40000;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::array<std::vector<double>, 2> pos;
+  std::vector<double> fluid;
+  for (std::size_t i = 0; i < n; ++i) {
+    // Water in the lower left, walls spread over the whole box.
+    const bool water = i % 3 != 0;
+    pos[0].push_back(water ? 3.0 * u(rng) * u(rng) : 4.0 * u(rng));
+    pos[1].push_back(water ? 0.5 * u(rng) : 2.0 * u(rng));
+    fluid.push_back(water ? 1.0 : 0.0);
+  }
+  CellGrid<2> grid({0.0, 0.0}, {4.0, 2.0}, 0.05);
+  grid.bin(pos, 1);
+  std::vector<std::uint32_t> before(n + 1, 0);
+  for (std::size_t k = 0; k < n; ++k) before[k + 1] = before[k] + (fluid[grid.order()[k]] != 0.0);
+  const long bands = static_cast<long>(grid.band_count());
+  const auto cost = [&](long b) {
+    const std::uint32_t i = grid.cell_start()[grid.band_cells(static_cast<std::size_t>(b)).first];
+    return static_cast<double>(i) + 7.0 * static_cast<double>(before[i]);
+  };
+  double widest = 0.0;
+  for (long b = 0; b < bands; ++b) widest = std::max(widest, cost(b + 1) - cost(b));
+  for (int threads : {1, 2, 3, 5}) {
+    long next = 0;
+    for (int t = 0; t < threads; ++t) {
+      const auto [begin, end] = grid.thread_bands(before, t, threads);
+      EXPECT_EQ(begin, next) << threads << " threads, thread " << t;
+      EXPECT_LE(begin, end);
+      EXPECT_NEAR(cost(end) - cost(begin), cost(bands) / threads, widest) << threads << " threads, thread " << t;
+      next = end;
+    }
+    EXPECT_EQ(next, bands) << threads << " threads";
+  }
+}
+
+// parallel::prefix_count: the counts before each index, the same on any number of threads.
+TEST(Parallel, PrefixCountIsTheSerialCount) {
+  const long n = 3 * parallel::light_loop_threshold + 5;
+  std::vector<std::uint8_t> flag(static_cast<std::size_t>(n));
+  std::mt19937 rng(3);
+  for (auto& f : flag) f = rng() % 3 == 0;
+  std::vector<std::uint32_t> expected(static_cast<std::size_t>(n) + 1, 0);
+  for (long i = 0; i < n; ++i) expected[i + 1] = expected[i] + flag[i];
+  for (int threads : {1, 2, 3}) {
+    std::vector<std::uint32_t> before;
+    parallel::prefix_count(n, threads, before, [&](long i) { return flag[i] != 0; });
+    EXPECT_EQ(before, expected) << threads << " threads";
   }
 }
 
@@ -163,4 +223,31 @@ TEST(Particles, PermuteMovesEveryFieldWithTheParticle) {
     ASSERT_EQ(q.density_start[1], 7.0);
     ASSERT_EQ(q.density[1], 1000.0 + order[1]);
   }
+}
+
+// parallel::for_each_dynamic (contiguous shares with stealing) visits every index exactly once on any
+// number of threads, also when the work is all in one thread's share.
+TEST(Parallel, StealingVisitsEveryIndexOnce) {
+  const long n = 10007;
+  for (int threads : {1, 2, 3, 4}) {
+    std::vector<std::atomic<int>> visits(static_cast<std::size_t>(n));
+    parallel::for_each_dynamic(n, threads, 64, [&](long i) {
+      if (i < n / 4) {  // the first share costs far more than the rest
+        volatile double x = 0.0;
+        for (int k = 0; k < 2000; ++k) x = x + 1.0;
+      }
+      ++visits[static_cast<std::size_t>(i)];
+    });
+    long wrong = 0;
+    for (const auto& v : visits) wrong += v.load() != 1;
+    EXPECT_EQ(wrong, 0) << threads << " threads";
+  }
+  // The runs themselves: items first, first + stride, ..., last, each handed out once.
+  parallel::StealingRuns runs(2);
+  runs.set(0, 0, 8);   // 0 2 4 6 8
+  runs.set(1, 1, -1);  // empty
+  std::vector<long> got;
+  for (long k = runs.next(1, 2); k >= 0; k = runs.next(1, 2)) got.push_back(k);  // steals from the back
+  EXPECT_EQ(got, (std::vector<long>{8, 6, 4, 2, 0}));
+  EXPECT_EQ(runs.next(0, 2), -1);
 }

@@ -26,8 +26,8 @@ std::vector<double> state_by_id(const Simulation& sim) {
 
 }  // namespace
 
-// Both wall treatments: with Adami walls the wall densities come from the extrapolation, summed per
-// wall particle by one thread.
+// Every wall treatment: with Adami and mDBC walls the wall densities come from sums over the fluid,
+// each wall particle's by one thread.
 class Determinism : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(Determinism, OneAndTwoThreadsGiveBitIdenticalResults) {
@@ -51,4 +51,4 @@ TEST_P(Determinism, OneAndTwoThreadsGiveBitIdenticalResults) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(WallBoundaries, Determinism, ::testing::Values("dynamic", "adami"));
+INSTANTIATE_TEST_SUITE_P(WallBoundaries, Determinism, ::testing::Values("dynamic", "adami", "mdbc"));

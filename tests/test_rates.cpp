@@ -291,7 +291,7 @@ void compare_fluid_sums_with_brute_force() {
   grid.bin(p.position);
   p.permute(grid.order(), scratch, false, 1);
   FluidIndex index;
-  index.build(p);
+  index.build(p, 1);
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> across(-0.08, 0.3);
   int with_fluid = 0, without = 0;

@@ -6,6 +6,11 @@
 
 #include <omp.h>
 
+#include <algorithm>
+#include <atomic>
+#include <cstdint>
+#include <vector>
+
 namespace sluice::parallel {
 
 // Light O(N) loops (reordering, per-particle terms, integration) only pay for threads when there are
@@ -35,14 +40,6 @@ void for_chunks(long n, int threads, F&& f, long threshold = light_loop_threshol
   }
 }
 
-// f(i) for every i in [0, n), handed out `chunk` indices at a time (for loops whose iterations cost
-// very different amounts).
-template <class F>
-void for_each_dynamic(long n, int threads, long chunk, F&& f) {
-#pragma omp parallel for schedule(dynamic, chunk) num_threads(threads)
-  for (long i = 0; i < n; ++i) f(i);
-}
-
 // The sum of f(i) over [0, n), for counts (integers, so the order of the sum does not matter).
 template <class T, class F>
 T count(long n, int threads, F&& f) {
@@ -54,6 +51,94 @@ T count(long n, int threads, F&& f) {
     total += part;
   });
   return total;
+}
+
+// before[i] = how many k < i have f(k), for i in [0, n] (before is resized to n + 1): each thread
+// counts its contiguous share, then writes its share from the counts of the shares before it. A
+// pass on one thread would bring every particle's cache line to that thread's core, for the other
+// threads to fetch back in the next pass.
+template <class F>
+void prefix_count(long n, int threads, std::vector<std::uint32_t>& before, F&& f) {
+  before.resize(static_cast<std::size_t>(n) + 1);
+  const int teams = n >= light_loop_threshold ? std::max(1, threads) : 1;
+  std::vector<std::uint32_t> shares(static_cast<std::size_t>(teams) + 1, 0);
+#pragma omp parallel num_threads(teams) if (teams > 1)
+  {
+    const long t = omp_get_thread_num(), size = omp_get_num_threads();
+    const long begin = n * t / size, end = n * (t + 1) / size;
+    std::uint32_t count = 0;
+    for (long i = begin; i < end; ++i) count += f(i) ? 1u : 0u;
+    shares[static_cast<std::size_t>(t) + 1] = count;
+#pragma omp barrier
+    std::uint32_t running = 0;
+    for (long u = 0; u <= t; ++u) running += shares[static_cast<std::size_t>(u)];
+    for (long i = begin; i < end; ++i) {
+      before[static_cast<std::size_t>(i)] = running;
+      running += f(i) ? 1u : 0u;
+    }
+    if (t == size - 1) before[static_cast<std::size_t>(n)] = running;
+  }
+}
+
+// Work shared out in contiguous runs, with stealing: each thread takes the items of its own run from
+// the front, in order, and when that is empty takes the last item of the run with the most left. A
+// thread thus works on neighbouring items (whose data stay in its core's cache from one pass to the
+// next) and the threads finish together however uneven the items' costs. Items are first, first +
+// stride, ..., last; set() every run before any thread calls next().
+class StealingRuns {
+ public:
+  explicit StealingRuns(int threads) : runs_(static_cast<std::size_t>(std::max(1, threads))) {
+    for (auto& run : runs_) run.store(pack(0, -1));  // empty (a team may have fewer threads)
+  }
+  // Thread t's run: first, first + stride, ..., last (empty if first > last; -2^30 < items < 2^30).
+  void set(int t, long first, long last) { runs_[static_cast<std::size_t>(t)].store(pack(first, last)); }
+  // Thread t's next item, or -1 when every run is empty.
+  long next(int t, long stride) {
+    std::atomic<std::uint64_t>& own = runs_[static_cast<std::size_t>(t)];
+    for (std::uint64_t v = own.load(); first(v) <= last(v);)
+      if (own.compare_exchange_weak(v, pack(first(v) + stride, last(v)))) return first(v);
+    for (;;) {
+      std::atomic<std::uint64_t>* most = nullptr;
+      long most_left = 0;
+      for (auto& run : runs_) {
+        const std::uint64_t v = run.load();
+        if (last(v) - first(v) + 1 > most_left) {
+          most_left = last(v) - first(v) + 1;
+          most = &run;
+        }
+      }
+      if (most == nullptr) return -1;
+      std::uint64_t v = most->load();
+      if (first(v) <= last(v) && most->compare_exchange_strong(v, pack(first(v), last(v) - stride))) return last(v);
+    }
+  }
+
+ private:
+  static constexpr long kOffset = 1L << 30;
+  static std::uint64_t pack(long first, long last) {
+    return (static_cast<std::uint64_t>(first + kOffset) << 32) | static_cast<std::uint64_t>(last + kOffset);
+  }
+  static long first(std::uint64_t v) { return static_cast<long>(v >> 32) - kOffset; }
+  static long last(std::uint64_t v) { return static_cast<long>(v & 0xffffffffu) - kOffset; }
+  std::vector<std::atomic<std::uint64_t>> runs_;
+};
+
+// f(i) for every i in [0, n), for loops whose iterations cost very different amounts: `chunk` indices
+// at a time, each thread taking the chunks of its contiguous share in order and then the last chunks
+// of the others' (StealingRuns). Unlike chunks handed out in turn, a thread keeps to its own share
+// while there is any, so the particles' cache lines stay with its core.
+template <class F>
+void for_each_dynamic(long n, int threads, long chunk, F&& f) {
+  const long chunks = (n + chunk - 1) / chunk;
+  StealingRuns runs(threads);
+#pragma omp parallel num_threads(threads)
+  {
+    const int t = omp_get_thread_num(), size = omp_get_num_threads();
+    runs.set(t, chunks * t / size, chunks * (t + 1) / size - 1);
+#pragma omp barrier
+    for (long c = runs.next(t, 1); c >= 0; c = runs.next(t, 1))
+      for (long i = c * chunk, end = std::min(n, (c + 1) * chunk); i < end; ++i) f(i);
+  }
 }
 
 // The threads of one parallel region, for work in several phases separated by barriers

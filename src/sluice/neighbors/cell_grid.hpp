@@ -64,9 +64,11 @@ class CellGrid {
   // Computes cell indices and the counting-sort order. After the caller permutes the particles
   // with `order()`, call nothing else: cell_start() and cell_of() already describe the sorted set.
   // With several threads (for many particles) the counting sort is parallel too: each thread counts
-  // the cells of its contiguous share of the particles, a serial pass over the cells turns the counts
-  // into each thread's starting positions, and each thread places its share. Threads' shares are in
-  // index order, so the order is the serial stable order whatever the number of threads.
+  // the cells of its contiguous share of the particles; the counts become each thread's starting
+  // position in each cell by a scan over the cells that the threads share (each sums its share of the
+  // cells, then scans it from the total of the shares before it: a tank is mostly air, and its cells
+  // can be as many as its particles); and each thread places its share. Threads' shares are in index
+  // order, so the order is the serial stable order whatever the number of threads.
   void bin(const std::array<std::vector<double>, Dim>& position, int threads = 1) {
     const long n = static_cast<long>(position[0].size());
     const std::size_t cells = cell_count();
@@ -74,11 +76,13 @@ class CellGrid {
     cell_of_.resize(static_cast<std::size_t>(n));
     order_.resize(static_cast<std::size_t>(n));
     sorted_cell_.resize(static_cast<std::size_t>(n));
-    cursor_.assign(static_cast<std::size_t>(teams) * cells, 0u);
+    cursor_.resize(static_cast<std::size_t>(teams) * cells);
+    cells_before_.assign(static_cast<std::size_t>(teams) + 1, 0u);
     parallel::in_team(teams, teams > 1, [&](const parallel::Team& team) {
       const long t = team.index(), size = team.size();
       const long begin = n * t / size, end = n * (t + 1) / size;
       std::uint32_t* __restrict count = cursor_.data() + static_cast<std::size_t>(t) * cells;
+      std::fill(count, count + cells, 0u);
       for (long i = begin; i < end; ++i) {
         std::uint32_t c = 0;
         for (int k = Dim - 1; k >= 0; --k)
@@ -87,19 +91,28 @@ class CellGrid {
         ++count[c];
       }
       team.barrier();
-      team.single([&] {
-        std::uint32_t running = 0;
-        for (std::size_t c = 0; c < cells; ++c) {
-          cell_start_[c] = running;
-          for (long u = 0; u < size; ++u) {
-            std::uint32_t& slot = cursor_[static_cast<std::size_t>(u) * cells + c];
-            const std::uint32_t k = slot;
-            slot = running;
-            running += k;
-          }
+      const std::size_t c_begin = cells * static_cast<std::size_t>(t) / static_cast<std::size_t>(size);
+      const std::size_t c_end = cells * static_cast<std::size_t>(t + 1) / static_cast<std::size_t>(size);
+      std::uint32_t share = 0;
+      for (long u = 0; u < size; ++u) {
+        const std::uint32_t* counts = cursor_.data() + static_cast<std::size_t>(u) * cells;
+        for (std::size_t c = c_begin; c < c_end; ++c) share += counts[c];
+      }
+      cells_before_[static_cast<std::size_t>(t) + 1] = share;
+      team.barrier();
+      std::uint32_t running = 0;
+      for (long u = 0; u <= t; ++u) running += cells_before_[static_cast<std::size_t>(u)];
+      for (std::size_t c = c_begin; c < c_end; ++c) {
+        cell_start_[c] = running;
+        for (long u = 0; u < size; ++u) {
+          std::uint32_t& slot = cursor_[static_cast<std::size_t>(u) * cells + c];
+          const std::uint32_t k = slot;
+          slot = running;
+          running += k;
         }
-        cell_start_[cells] = running;
-      });
+      }
+      if (t == size - 1) cell_start_[cells] = running;
+      team.barrier();
       for (long i = begin; i < end; ++i) order_[count[cell_of_[i]]++] = static_cast<std::uint32_t>(i);
       team.barrier();
       // Cell of each particle in sorted order (this thread's share; the region's end is the barrier).
@@ -262,6 +275,37 @@ class CellGrid {
     return {static_cast<std::uint32_t>(b * stride), static_cast<std::uint32_t>((b + 1) * stride)};
   }
 
+  // Thread t's share of the bands for the pair loop: [begin, end), a contiguous run, with the runs of
+  // the `threads` threads in order and of about equal cost, from `fluid_before` (the fluid particles
+  // before each sorted index, n + 1 of them): a fluid particle counts as eight wall particles, as a
+  // wall particle only meets the fluid. Which thread takes a band does not change the pair loop's
+  // results: bands of one parity are done before those of the other, and within a band in order. A
+  // contiguous run, rather than bands handed out in turn, keeps a band's particles with one core from
+  // the even pass to the odd one and from one evaluation to the next.
+  [[nodiscard]] std::pair<long, long> thread_bands(const std::vector<std::uint32_t>& fluid_before, int t,
+                                                   int threads) const {
+    const long bands = static_cast<long>(band_count());
+    const auto cost_before = [&](long band) {
+      const std::uint32_t i = cell_start_[band_cells(static_cast<std::size_t>(band)).first];
+      return static_cast<double>(i) + 7.0 * static_cast<double>(fluid_before[i]);
+    };
+    const auto split = [&](int k) -> long {
+      if (k <= 0) return 0;
+      if (k >= threads) return bands;
+      const double target = cost_before(bands) * k / threads;
+      long lo = 0, hi = bands;  // the first band whose cost before it reaches the target
+      while (lo < hi) {
+        const long mid = lo + (hi - lo) / 2;
+        if (cost_before(mid) < target)
+          lo = mid + 1;
+        else
+          hi = mid;
+      }
+      return lo;
+    };
+    return {split(t), split(t + 1)};
+  }
+
   // Bands: the layers of cells along the slowest coordinate (rows in 2D, planes in 3D). The forward
   // neighbours of a particle lie in its own band and the next one, so bands of the same parity can be
   // processed at the same time without two of them writing to the same particle.
@@ -292,6 +336,7 @@ class CellGrid {
   std::vector<std::uint32_t> sorted_cell_;
   std::vector<std::uint32_t> order_;
   std::vector<std::uint32_t> cursor_;
+  std::vector<std::uint32_t> cells_before_;  // bin: the particles in the cells of the threads before each
 };
 
 }  // namespace sluice

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "sluice/core/linear_fit.hpp"
+#include "sluice/core/parallel.hpp"
 #include "sluice/core/particles.hpp"
 #include "sluice/core/vec.hpp"
 #include "sluice/neighbors/cell_grid.hpp"
@@ -34,15 +35,14 @@ struct FluidIndex {
   std::vector<std::uint32_t> before;  // size n + 1
 
   template <int Dim>
-  void build(const Particles<Dim>& p) {
-    const std::size_t n = p.size();
-    fluid.resize(n);
-    before.resize(n + 1);
-    before[0] = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      fluid[i] = p.kind[i] == Kind::fluid ? 1.0 : 0.0;
-      before[i + 1] = before[i] + (p.kind[i] == Kind::fluid ? 1u : 0u);
-    }
+  void build(const Particles<Dim>& p, int threads) {
+    const long n = static_cast<long>(p.size());
+    fluid.resize(static_cast<std::size_t>(n));
+    parallel::prefix_count(n, threads, before, [&](long i) {
+      const bool is = p.kind[static_cast<std::size_t>(i)] == Kind::fluid;
+      fluid[static_cast<std::size_t>(i)] = is ? 1.0 : 0.0;
+      return is;
+    });
   }
 };
 

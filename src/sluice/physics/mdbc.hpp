@@ -109,7 +109,7 @@ struct MdbcWalls {
     const auto& g = *static_cast<const WallGhosts<Dim>*>(ghosts.get());
     const AnyKernel<Dim> any_kernel(kernel);
     FluidIndex fluid;
-    fluid.build(p);
+    fluid.build(p, threads);
     // Each iteration reads fluid particles and writes one wall particle: no races.
     parallel::for_each_dynamic(static_cast<long>(p.size()), threads, 256, [&](long i) {
       const auto w = static_cast<std::size_t>(i);
@@ -132,9 +132,11 @@ struct MdbcWalls {
     });
   }
   template <int Dim>
-  void after_rates(Particles<Dim>& p) const {
-    for (std::size_t i = 0; i < p.size(); ++i)
-      if (!p.is_fluid(i)) p.density_rate[i] = 0.0;
+  void after_rates(Particles<Dim>& p, int threads) const {
+    parallel::for_chunks(static_cast<long>(p.size()), threads, [&](long begin, long end) {
+      for (long i = begin; i < end; ++i)
+        if (!p.is_fluid(static_cast<std::size_t>(i))) p.density_rate[i] = 0.0;
+    });
   }
 };
 

@@ -36,8 +36,10 @@
 #include <vector>
 
 #include <hwy/highway.h>
+#include <omp.h>
 
 #include "sluice/core/lanes-inl.hpp"
+#include "sluice/core/parallel.hpp"
 #include "sluice/physics/rate_loops.hpp"
 
 HWY_BEFORE_NAMESPACE();
@@ -190,26 +192,40 @@ HWY_INLINE void evaluate_pairs(const Pair& shared_pair, std::uint32_t i, const s
 // the output arrays `out` (zeroed first; Pair::Rates says their order). Wall particles with no fluid
 // particle among their forward candidates are skipped (wall-wall pairs are of no use to any pair
 // here). Returns the largest speed2 and the smallest fluid_r2 of the pairs through `speed2_max` and
-// `r2_min`. Called inside a parallel region, by every thread of it.
+// `r2_min`. Called inside a parallel region, by every thread of it, with `runs` made for that many
+// threads.
 template <int Dim, class Pair, class R = typename Pair::Real>
 HWY_INLINE void for_each_pair(const Pair& pair, const CellGrid<Dim>& grid, const std::array<const R*, Dim>& x,
                               const R* fluid, const std::vector<std::uint32_t>& fluid_before, double support2,
-                              double min_r2, const std::array<double*, Pair::kOutputs>& out, double& speed2_max,
-                              double& r2_min) {
+                              double min_r2, const std::array<double*, Pair::kOutputs>& out,
+                              std::array<parallel::StealingRuns, 2>& runs, double& speed2_max, double& r2_min) {
   const long n = static_cast<long>(grid.cell_of().size());
   const auto& cell_start = grid.cell_start();
-#pragma omp for schedule(static)
-  for (long i = 0; i < n; ++i)
+  // This thread's bands, a contiguous run of them (CellGrid::thread_bands), and the particles they
+  // hold, which it zeroes: each thread's particles stay in its own core's cache from one pass to the
+  // next. Its run's even bands, then its odd ones, are its runs in runs[0] and runs[1]; a thread done
+  // with its own takes the others' last bands (parallel::StealingRuns).
+  const int t = omp_get_thread_num();
+  const auto [band_begin, band_end] = grid.thread_bands(fluid_before, t, omp_get_num_threads());
+  const long first = cell_start[grid.band_cells(static_cast<std::size_t>(band_begin)).first];
+  const long last = band_end == static_cast<long>(grid.band_count())
+                        ? n
+                        : cell_start[grid.band_cells(static_cast<std::size_t>(band_end)).first];
+  for (long i = first; i < last; ++i)
     for (double* o : out) o[i] = 0.0;
+  for (long parity = 0; parity < 2; ++parity)
+    runs[parity].set(t, band_begin + ((band_begin + parity) & 1), band_end - 1 - ((band_end - 1 + parity) & 1));
+#pragma omp barrier
   CellBlock<Dim, Pair::kOutputs, R> block;
-  const long bands = static_cast<long>(grid.band_count());
   // Each thread's extremes, combined at the end (max and min do not depend on the order; clang
   // rejects an omp reduction on reference parameters in an orphaned loop). Every thread reads the
   // shared ones before the loops' barriers and writes them after.
   double speed2 = speed2_max, r2 = r2_min;
   for (long parity = 0; parity < 2; ++parity) {
-#pragma omp for schedule(dynamic, 1)
-    for (long band = parity; band < bands; band += 2) {
+    if (parity == 1) {
+#pragma omp barrier
+    }
+    for (long band = runs[parity].next(t, 2); band >= 0; band = runs[parity].next(t, 2)) {
       const auto [first_cell, last_cell] = grid.band_cells(static_cast<std::size_t>(band));
       for (std::uint32_t cell = first_cell; cell < last_cell; ++cell) {
         const std::uint32_t cell_begin = cell_start[cell], cell_end = cell_start[cell + 1];
@@ -237,6 +253,7 @@ HWY_INLINE void for_each_pair(const Pair& pair, const CellGrid<Dim>& grid, const
       }
     }
   }
+#pragma omp barrier
 #pragma omp critical(sluice_pair_extremes)
   {
     speed2_max = std::max(speed2_max, speed2);
@@ -246,9 +263,9 @@ HWY_INLINE void for_each_pair(const Pair& pair, const CellGrid<Dim>& grid, const
 
 // Fluid particles before each sorted index (for_each_pair's wall-particle test).
 template <class R>
-std::vector<std::uint32_t> fluid_counts(const R* fluid, long n) {
-  std::vector<std::uint32_t> before(static_cast<std::size_t>(n) + 1, 0);
-  for (long i = 0; i < n; ++i) before[i + 1] = before[i] + (fluid[i] != 0.0);
+std::vector<std::uint32_t> fluid_counts(const R* fluid, long n, int threads) {
+  std::vector<std::uint32_t> before;
+  parallel::prefix_count(n, threads, before, [fluid](long i) { return fluid[i] != 0.0; });
   return before;
 }
 
@@ -312,11 +329,12 @@ RateSummary rate_loop(Particles<Dim>& p, const CellGrid<Dim>& grid, const RateSe
   }
   out[Dim] = p.density_rate.data();
   const R* const fluid = fields.fluid;
-  const auto fluid_before = fluid_counts(fluid, static_cast<long>(p.size()));
+  const auto fluid_before = fluid_counts(fluid, static_cast<long>(p.size()), threads);
 
   double max_accel2 = 0.0, max_speed2 = 0.0, max_rho = 0.0, closest2 = support2;
+  std::array<parallel::StealingRuns, 2> runs{parallel::StealingRuns(threads), parallel::StealingRuns(threads)};
   in_parallel(threads, [&] {
-    for_each_pair<Dim>(pair, grid, x, fluid, fluid_before, support2, min_r2, out, max_speed2, closest2);
+    for_each_pair<Dim>(pair, grid, x, fluid, fluid_before, support2, min_r2, out, runs, max_speed2, closest2);
     add_gravity<Dim>(p, s.gravity, t.fluid_mask.data(), max_accel2, max_rho);
   });
   return {std::sqrt(max_accel2), std::sqrt(max_speed2), max_rho, std::sqrt(closest2)};
@@ -333,10 +351,11 @@ void shifting_loop(const Particles<Dim>& p, const CellGrid<Dim>& grid, const Shi
   const double support2 = pair.far_r2, min_r2 = 1e-18 * s.h * s.h;
   std::array<const double*, Dim> x{};
   for (int d = 0; d < Dim; ++d) x[d] = p.position[d].data();
-  const auto fluid_before = fluid_counts(fluid, static_cast<long>(p.size()));
+  const auto fluid_before = fluid_counts(fluid, static_cast<long>(p.size()), threads);
   double unused_speed2 = 0.0, unused_r2 = support2;
+  std::array<parallel::StealingRuns, 2> runs{parallel::StealingRuns(threads), parallel::StealingRuns(threads)};
   in_parallel(threads, [&] {
-    for_each_pair<Dim>(pair, grid, x, fluid, fluid_before, support2, min_r2, out, unused_speed2, unused_r2);
+    for_each_pair<Dim>(pair, grid, x, fluid, fluid_before, support2, min_r2, out, runs, unused_speed2, unused_r2);
   });
 }
 
@@ -348,11 +367,22 @@ void shepard_loop(Particles<Dim>& p, const CellGrid<Dim>& grid, double h, double
   const std::size_t N = simd::lanes();
   const std::size_t size = p.size();
   const auto& cell_of = grid.cell_of();
-  out.assign(p.density.begin(), p.density.end());
+  out.resize(size);
+  // Chunks of particles, each thread taking those of its contiguous share and then the others' last
+  // ones (the water may lie in one thread's share), so that the particles' cache lines stay with one
+  // core as in the other passes over the particles.
+  const long chunk = 256, chunks = (n + chunk - 1) / chunk;
+  parallel::StealingRuns runs(threads);
   in_parallel(threads, [&] {
-#pragma omp for schedule(dynamic, 512)
-    for (long i = 0; i < n; ++i) {
-      if (!p.is_fluid(static_cast<std::size_t>(i)) || (selected && (*selected)[i] == 0)) continue;
+    const int t = omp_get_thread_num(), team = omp_get_num_threads();
+    runs.set(t, chunks * t / team, chunks * (t + 1) / team - 1);
+#pragma omp barrier
+    for (long c = runs.next(t, 1); c >= 0; c = runs.next(t, 1))
+    for (long i = c * chunk, end = std::min(n, (c + 1) * chunk); i < end; ++i) {
+      if (!p.is_fluid(static_cast<std::size_t>(i)) || (selected && (*selected)[i] == 0)) {
+        out[i] = p.density[i];
+        continue;
+      }
       // Candidates a vector at a time; those outside the support have W = 0 exactly, and the lanes past
       // the end of a range are placed outside it.
       std::array<Pack, Dim> xi;

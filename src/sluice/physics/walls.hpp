@@ -30,7 +30,7 @@ struct DynamicWalls {
   void before_rates(Particles<Dim>&, const CellGrid<Dim>&, const Kernel&, const TaitEos&,
                     const std::type_identity_t<Vec<Dim>>&, int) const {}
   template <int Dim>
-  void after_rates(Particles<Dim>&) const {}
+  void after_rates(Particles<Dim>&, int) const {}
 };
 
 // Adami, Hu & Adams (2012) generalized walls: the wall density is set from the pressure extrapolated
@@ -45,9 +45,11 @@ struct AdamiWalls {
     extrapolate_wall_density(p, grid, kernel, eos, gravity, threads);
   }
   template <int Dim>
-  void after_rates(Particles<Dim>& p) const {
-    for (std::size_t i = 0; i < p.size(); ++i)
-      if (!p.is_fluid(i)) p.density_rate[i] = 0.0;
+  void after_rates(Particles<Dim>& p, int threads) const {
+    parallel::for_chunks(static_cast<long>(p.size()), threads, [&](long begin, long end) {
+      for (long i = begin; i < end; ++i)
+        if (!p.is_fluid(static_cast<std::size_t>(i))) p.density_rate[i] = 0.0;
+    });
   }
 };
 

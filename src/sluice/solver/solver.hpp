@@ -160,11 +160,13 @@ class Solver {
   // Within the walls' reach: sideways inside the walls' outer faces plus a margin of 4h, and above the
   // floor's underside less that margin. Water can leave it only over the walls of an open tank (or
   // through a wall, when a run has gone unstable).
-  [[nodiscard]] bool within_walls(std::size_t i) const;
+  [[nodiscard]] bool within_walls(std::size_t i, double margin) const;
   // The tank's reach: within the walls' reach, and no higher than the lid plus that margin or, above
   // an open tank, ten times the tank's height (a jet thrown up falls back; one thrown that high is
   // taken for an instability).
-  [[nodiscard]] bool in_reach(std::size_t i) const;
+  [[nodiscard]] bool in_reach(std::size_t i, double margin) const;
+  // The margin of within_walls and in_reach: the wall layers and 4h.
+  [[nodiscard]] double reach_margin() const;
 
   // Returns to the state at the start of the last step (if it got far enough to change anything),
   // for the instability guard and after a failure mid-step; drops the ghosts of a step cut short.

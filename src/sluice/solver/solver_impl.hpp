@@ -144,8 +144,9 @@ RateSummary Solver<Dim>::evaluate(bool shepard_due, unsigned also_moved, bool la
   const int pair_threads = static_cast<long>(particles_.size()) >= parallel::pair_loop_threshold ? threads_ : 1;
   if (dist) dist->reordered(grid_.order());
   grid_binned_ = true;
-  bool repair_due = std::any_of(particles_.needs_density_repair.begin(), particles_.needs_density_repair.end(),
-                                [](std::uint8_t f) { return f != 0; });
+  const std::uint8_t* const repair = particles_.needs_density_repair.data();
+  bool repair_due = parallel::count<long>(static_cast<long>(particles_.needs_density_repair.size()), threads_,
+                                          [&](long i) -> long { return repair[i] != 0; }) > 0;
   if (dist) repair_due = reducer_->sum(static_cast<std::int64_t>(repair_due)) > 0;
   if (shepard_due || repair_due) {
     shepard_filter(particles_, grid_, kernel_, settings_.mass, shepard_due ? nullptr : &particles_.needs_density_repair,
@@ -173,7 +174,7 @@ RateSummary Solver<Dim>::evaluate(bool shepard_due, unsigned also_moved, bool la
     }
     summary.max_acceleration = std::sqrt(max_a2);
   }
-  std::visit([&](const auto& walls) { walls.after_rates(particles_); }, walls_);
+  std::visit([&](const auto& walls) { walls.after_rates(particles_, threads_); }, walls_);
   if (last && shifting_.coefficient > 0.0) {
     std::function<void(std::vector<double>&)> refresh;
     if (dist) refresh = [dist](std::vector<double>& divergence) { dist->refresh(divergence); };
@@ -308,18 +309,18 @@ std::int64_t Solver<Dim>::remove_outflow() {
   if (case_.tank_lid) return 0;
   const std::size_t n = particles_.size();
   std::vector<std::uint8_t> gone(n, 0);
-  std::int64_t here = 0;
+  const double margin = reach_margin();
   auto finite = [&](std::size_t i) {
     bool f = true;
     for (int d = 0; d < Dim; ++d) f = f && std::isfinite(particles_.position[d][i]);
     return f;
   };
   // A particle that is not finite is the guard's (check_health), not outflow.
-  for (std::size_t i = 0; i < n; ++i)
-    if (particles_.is_fluid(i) && finite(i) && !within_walls(i)) {
-      gone[i] = 1;
-      ++here;
-    }
+  const auto here = parallel::count<std::int64_t>(static_cast<long>(n), threads_, [&](long k) -> std::int64_t {
+    const auto i = static_cast<std::size_t>(k);
+    gone[i] = particles_.is_fluid(i) && finite(i) && !within_walls(i, margin);
+    return gone[i];
+  });
   if (here > 0) {
     particles_.erase(gone);
     grid_binned_ = false;
@@ -328,9 +329,13 @@ std::int64_t Solver<Dim>::remove_outflow() {
 }
 
 template <int Dim>
-bool Solver<Dim>::within_walls(std::size_t i) const {
+double Solver<Dim>::reach_margin() const {
+  return wall_layers(case_) * case_.dx + 4.0 * settings_.h;
+}
+
+template <int Dim>
+bool Solver<Dim>::within_walls(std::size_t i, double reach) const {
   constexpr int up = Dim - 1;
-  const double reach = wall_layers(case_) * case_.dx + 4.0 * settings_.h;
   const Vec3 size = case_.tank_size();
   for (int d = 0; d < up; ++d)
     if (!(particles_.position[d][i] >= -reach && particles_.position[d][i] <= size[d] + reach)) return false;
@@ -338,12 +343,11 @@ bool Solver<Dim>::within_walls(std::size_t i) const {
 }
 
 template <int Dim>
-bool Solver<Dim>::in_reach(std::size_t i) const {
+bool Solver<Dim>::in_reach(std::size_t i, double reach) const {
   constexpr int up = Dim - 1;
-  const double reach = wall_layers(case_) * case_.dx + 4.0 * settings_.h;
   const double height = case_.tank_size()[up];
   const double top = height + (case_.tank_lid ? reach : 10.0 * std::max(height, reach));
-  return within_walls(i) && particles_.position[up][i] <= top;
+  return within_walls(i, reach) && particles_.position[up][i] <= top;
 }
 
 template <int Dim>
@@ -399,11 +403,12 @@ template <int Dim>
 Health Solver<Dim>::check_health(std::size_t max_reported) const {
   const Particles<Dim>& p = particles_;
   const double rho0 = settings_.eos.rest_density;
+  const double margin = reach_margin();
   auto problem = [&](std::size_t i) -> const char* {
     bool finite = std::isfinite(p.density[i]);
     for (int d = 0; d < Dim; ++d) finite = finite && std::isfinite(p.position[d][i]) && std::isfinite(p.velocity[d][i]);
     if (!finite) return "not finite";
-    if (!in_reach(i)) return "far outside the tank";
+    if (!in_reach(i, margin)) return "far outside the tank";
     const double rho = p.density[i];
     if (!(rho > 0.5 * rho0 && rho < 2.0 * rho0)) return "density outside (0.5, 2) rho0";
     return nullptr;
