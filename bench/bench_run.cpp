@@ -17,8 +17,11 @@
 #include <cstring>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <sstream>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include "sluice/case/params.hpp"
@@ -98,6 +101,25 @@ bool measure_in_child(const std::string& name, double dx, int threads, bool sing
   return ok && WIFEXITED(status) && WEXITSTATUS(status) == 0;
 }
 
+// Each thread count's speed over one thread's, at one dx and precision (runs of the same thread
+// count averaged; the two are measured one after the other, so read them as a ratio of one run).
+void print_speedups(double dx, const std::vector<std::tuple<int, bool, double>>& runs) {
+  for (const bool single : {false, true}) {
+    std::map<int, std::pair<double, int>> mean;  // threads -> (sum, count)
+    for (const auto& [threads, s, evals] : runs)
+      if (s == single) {
+        mean[threads].first += evals;
+        ++mean[threads].second;
+      }
+    const auto one = mean.find(1);
+    if (one == mean.end()) continue;
+    for (const auto& [threads, sum] : mean)
+      if (threads > 1)
+        fmt::print("{:>8} {} threads over one, {}: {:.2f}x\n", dx, threads, single ? "single" : "double",
+                   (sum.first / sum.second) / (one->second.first / one->second.second));
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -152,7 +174,9 @@ int main(int argc, char** argv) {
   fmt::print("{}: {}\n", name, simd_target());
   fmt::print("{:>8} {:>7} {:>9} {:>10} {:>6} {:>9} {:>14} {:>14} {:>10}\n", "dx [m]", "threads", "precision",
              "particles", "steps", "wall [s]", "M p-steps/s", "M p-evals/s", "B/particle");
-  for (double dx : dxs)
+  for (double dx : dxs) {
+    // Particle-evaluations per second of each run at this dx, for the speed-up line below.
+    std::vector<std::tuple<int, bool, double>> runs;
     for (double t : thread_counts)
       for (const bool single : singles) {
       Result r;
@@ -169,7 +193,10 @@ int main(int argc, char** argv) {
       std::fflush(stdout);
       table += fmt::format("{},{},{},{},{},{},{},{:.4f},{:.0f},{:.0f},{:.1f}\n", name, dx, r.threads, precision,
                            r.particles, r.steps, r.evaluations_per_step, r.wall, psteps, evals, bytes);
+      runs.emplace_back(r.threads, r.single, evals);
     }
+    print_speedups(dx, runs);
+  }
   std::ofstream out(csv);
   out << table;
   if (!out) {
