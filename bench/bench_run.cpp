@@ -136,9 +136,19 @@ int main(int argc, char** argv) {
       }
       return argv[++a];
     };
-    if (arg == "--dx") dxs = parse_list(value());
-    else if (arg == "--threads") thread_counts = parse_list(value());
-    else if (arg == "--steps") steps = std::stol(value());
+    // A number that does not parse is an error naming the flag, not an uncaught exception.
+    auto numbers = [&](auto parse) {
+      const std::string text = value();
+      try {
+        return parse(text);
+      } catch (const std::exception&) {
+        std::cerr << "sluice-bench-run: " << arg << " takes a number or a comma-separated list of them, not '" << text << "'\n";
+        std::exit(2);
+      }
+    };
+    if (arg == "--dx") dxs = numbers(parse_list);
+    else if (arg == "--threads") thread_counts = numbers(parse_list);
+    else if (arg == "--steps") steps = numbers([](const std::string& t) { return std::stol(t); });
     else if (arg == "--csv") csv = value();
     else if (arg == "--case") name = value();
     else if (arg == "--precision") precisions = value();
