@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <random>
+#include <stdexcept>
 
 #include "sluice/case/params.hpp"
 #include "sluice/geometry/box.hpp"
@@ -218,6 +220,98 @@ TEST(NoPenetration, TheDriftVelocityDecidesWithTheLeapfrogsHalfKick) {
   EXPECT_NEAR(p.velocity[2][0] + 0.01 * a[2][0], 0.0, 1e-12);
   EXPECT_EQ(p.velocity[2][1], 0.0);
   EXPECT_EQ(stop_wall_approach(p, solids, 0.1, nullptr, 0.0), 0u);  // moving up now: nothing to stop
+}
+
+// SolidReach (geometry/leaks.hpp): the cells where the leak checks skip the water.
+namespace {
+
+// Points spread over the box [lower - 0.1, upper + 0.1], a fixed sequence.
+template <int Dim>
+std::vector<Vec<Dim>> spread_points(const Vec<Dim>& lower, const Vec<Dim>& upper, std::size_t count) {
+  std::mt19937_64 random(7);
+  std::vector<Vec<Dim>> points(count);
+  for (auto& x : points)
+    for (int d = 0; d < Dim; ++d)
+      x[d] = std::uniform_real_distribution<double>(lower[d] - 0.1, upper[d] + 0.1)(random);
+  return points;
+}
+
+template <int Dim>
+void expect_clear_cells_far_from_every_solid(const Case& c) {
+  const sluice::Setup<Dim> s = build_setup<Dim>(c);
+  ASSERT_FALSE(s.solids.empty());
+  const double reach = 0.25 * c.dx;
+  Vec<Dim> lower{}, upper{};
+  const Vec3 size = c.tank_size();
+  for (int d = 0; d < Dim; ++d) {
+    lower[d] = -0.5;
+    upper[d] = size[d] + 0.5;
+  }
+  const SolidReach<Dim> near(s.solids, lower, upper, 2.0 * c.smoothing_length(), reach);
+  // Most of the tank is clear (else the checks skip nothing), not all of it (the walls are not).
+  EXPECT_GT(near.clear_fraction(), 0.3);
+  EXPECT_LT(near.clear_fraction(), 0.95);
+  std::size_t clear = 0;
+  for (const Vec<Dim>& x : spread_points<Dim>(lower, upper, 20000)) {
+    if (!near.clear(x)) continue;
+    ++clear;
+    for (const auto& solid : s.solids) EXPECT_GT(solid->signed_distance(x), reach);
+  }
+  EXPECT_GT(clear, 2000u);
+  // Every wall particle is inside a solid: never in a clear cell.
+  for (std::size_t i = 0; i < s.particles.size(); ++i) {
+    if (s.particles.is_fluid(i)) continue;
+    Vec<Dim> x{};
+    for (int d = 0; d < Dim; ++d) x[d] = s.particles.position[d][i];
+    EXPECT_FALSE(near.clear(x));
+  }
+  Vec<Dim> outside = lower;
+  outside[0] -= 1.0;
+  EXPECT_FALSE(near.clear(outside));
+  Vec<Dim> nan = lower;
+  nan[Dim - 1] = std::nan("");
+  EXPECT_FALSE(near.clear(nan));
+}
+
+}  // namespace
+
+TEST(SolidReach, AClearCellIsFartherThanItsReachFromEverySolid) {
+  expect_clear_cells_far_from_every_solid<2>(*load_builtin_case("dam_break"));
+  Case spheric2 = *load_builtin_case("spheric2");  // with its box obstacle
+  spheric2.dx = 0.05;
+  expect_clear_cells_far_from_every_solid<3>(spheric2);
+}
+
+// Water everywhere, inside the walls too, moving every way: the put-back and the stopped approach
+// with the clear cells skipped leave every particle as the full checks do.
+TEST(SolidReach, SkippingTheClearCellsChangesNothing) {
+  const Case c = *load_builtin_case("dam_break");
+  const sluice::Setup<2> s = build_setup<2>(c);
+  const Vec<2> lower{-1.0, -1.0}, upper{c.tank_width + 1.0, c.tank_height + 1.0};
+  const SolidReach<2> near(s.solids, lower, upper, 2.0 * c.smoothing_length(), 0.25 * c.dx);
+  Particles<2> p;
+  std::mt19937_64 random(11);
+  std::uniform_real_distribution<double> speed(-3.0, 3.0);
+  for (const Vec<2>& x : spread_points<2>(lower, upper, 40000)) {
+    p.add(x, Kind::fluid, 1000.0);
+    p.velocity[0].back() = speed(random);
+    p.velocity[1].back() = speed(random);
+  }
+  Particles<2> q = p;
+  const std::size_t stopped = stop_wall_approach(p, s.solids, c.dx, nullptr, 0.0);
+  EXPECT_GT(stopped, 20u);
+  EXPECT_EQ(stop_wall_approach(q, s.solids, c.dx, nullptr, 0.0, 1, &near), stopped);
+  const std::size_t put_back = put_back_leaked(p, s.solids, c.dx);
+  EXPECT_GT(put_back, 1000u);
+  EXPECT_EQ(put_back_leaked(q, s.solids, c.dx, 1, &near), put_back);
+  for (int d = 0; d < 2; ++d) {
+    EXPECT_EQ(p.position[d], q.position[d]);
+    EXPECT_EQ(p.velocity[d], q.velocity[d]);
+  }
+  EXPECT_EQ(p.needs_density_repair, q.needs_density_repair);
+  // A reach below the approach band would skip particles inside it.
+  const SolidReach<2> short_reach(s.solids, lower, upper, 2.0 * c.smoothing_length(), 0.0);
+  EXPECT_THROW(stop_wall_approach(q, s.solids, c.dx, nullptr, 0.0, 1, &short_reach), std::invalid_argument);
 }
 
 TEST(Setup, NearCoincidentPointsKeepOneOfEachPair) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "sluice/core/parallel.hpp"
 
@@ -63,17 +64,72 @@ Vec<Dim> outward_normal(const Solid<Dim>& solid, const Vec<Dim>& x, double dista
   return length > 0.0 ? (1.0 / length) * gradient : Vec<Dim>{};
 }
 
+template <int Dim>
+Vec<Dim> position_of(const Particles<Dim>& p, long i) {
+  Vec<Dim> x{};
+  for (int d = 0; d < Dim; ++d) x[d] = p.position[d][i];
+  return x;
+}
+
 }  // namespace
 
 template <int Dim>
-std::size_t put_back_leaked(Particles<Dim>& p, const Solids<Dim>& solids, double dx, int threads) {
+SolidReach<Dim>::SolidReach(const Solids<Dim>& solids, const Vec<Dim>& lower, const Vec<Dim>& upper, double cell,
+                            double reach, std::size_t max_cells)
+    : lower_(lower), reach_(reach) {
+  if (!(cell > 0.0) || !(reach >= 0.0)) throw std::invalid_argument("SolidReach: cell size and reach must be positive");
+  const auto cells_of = [&](double size) {
+    std::size_t total = 1;
+    for (int d = 0; d < Dim; ++d) {
+      count_[d] = std::max(1, static_cast<int>(std::ceil((upper[d] - lower[d]) / size)));
+      total *= static_cast<std::size_t>(count_[d]);
+    }
+    return total;
+  };
+  while (cells_of(cell) > max_cells) cell *= 1.5;
+  inv_cell_ = 1.0 / cell;
+  const double half_diagonal = 0.5 * cell * std::sqrt(static_cast<double>(Dim));
+  const std::size_t total = cells_of(cell);
+  clear_.assign(total, 1);
+  for (std::size_t c = 0; c < total; ++c) {
+    Vec<Dim> centre{};
+    std::size_t rest = c;
+    for (int d = 0; d < Dim; ++d) {
+      centre[d] = lower_[d] + (static_cast<double>(rest % static_cast<std::size_t>(count_[d])) + 0.5) * cell;
+      rest /= static_cast<std::size_t>(count_[d]);
+    }
+    for (const auto& s : solids) {
+      // Outside the solid's bounding box grown by reach plus the half diagonal, the cell is clear of it
+      // without asking its distance.
+      bool far = false;
+      for (int d = 0; d < Dim; ++d)
+        far = far || centre[d] < s->lower()[d] - reach - half_diagonal || centre[d] > s->upper()[d] + reach + half_diagonal;
+      if (far) continue;
+      if (!(s->signed_distance(centre) - half_diagonal > reach)) {
+        clear_[c] = 0;
+        break;
+      }
+    }
+  }
+}
+
+template <int Dim>
+double SolidReach<Dim>::clear_fraction() const {
+  if (clear_.empty()) return 0.0;
+  return static_cast<double>(std::count(clear_.begin(), clear_.end(), std::uint8_t{1})) /
+         static_cast<double>(clear_.size());
+}
+
+template <int Dim>
+std::size_t put_back_leaked(Particles<Dim>& p, const Solids<Dim>& solids, double dx, int threads,
+                            const SolidReach<Dim>* near) {
   const std::vector<Bounded<Dim>> boxes = bounded<Dim>(solids, 0.0);
 
   const long n = static_cast<long>(p.size());
   const long count = parallel::count<long>(n, threads, [&](long i) -> long {
     if (p.kind[i] != Kind::fluid) return 0;
-    Vec<Dim> x{};
-    for (int d = 0; d < Dim; ++d) x[d] = p.position[d][i];
+    Vec<Dim> x = position_of(p, i);
+    if (near != nullptr && near->clear(x)) return 0;
     const Solid<Dim>* solid = containing<Dim>(boxes, x);
     if (solid == nullptr) return 0;
     Vec<Dim> v{};
@@ -100,16 +156,18 @@ std::size_t put_back_leaked(Particles<Dim>& p, const Solids<Dim>& solids, double
 template <int Dim>
 std::size_t stop_wall_approach(Particles<Dim>& p, const Solids<Dim>& solids, double dx,
                                const typename Particles<Dim>::template Vector<double>* acceleration, double tau,
-                               int threads) {
+                               int threads, const SolidReach<Dim>* near) {
   const double band = 0.25 * dx;
-  const std::vector<Bounded<Dim>> near = bounded<Dim>(solids, band);
+  if (near != nullptr && !(near->reach() >= band))
+    throw std::invalid_argument("stop_wall_approach: the SolidReach's reach is below dx/4");
+  const std::vector<Bounded<Dim>> boxes = bounded<Dim>(solids, band);
   const long n = static_cast<long>(p.size());
   const long count = parallel::count<long>(n, threads, [&](long i) -> long {
     if (p.kind[i] != Kind::fluid) return 0;
-    Vec<Dim> x{};
-    for (int d = 0; d < Dim; ++d) x[d] = p.position[d][i];
+    const Vec<Dim> x = position_of(p, i);
+    if (near != nullptr && near->clear(x)) return 0;
     long changed = 0;
-    for (const Bounded<Dim>& b : near) {
+    for (const Bounded<Dim>& b : boxes) {
       if (!in_box<Dim>(b, x)) continue;
       const double distance = b.solid->signed_distance(x);
       if (distance >= band) continue;
@@ -129,11 +187,13 @@ std::size_t stop_wall_approach(Particles<Dim>& p, const Solids<Dim>& solids, dou
   return static_cast<std::size_t>(count);
 }
 
-template std::size_t put_back_leaked<2>(Particles<2>&, const Solids<2>&, double, int);
-template std::size_t put_back_leaked<3>(Particles<3>&, const Solids<3>&, double, int);
+template class SolidReach<2>;
+template class SolidReach<3>;
+template std::size_t put_back_leaked<2>(Particles<2>&, const Solids<2>&, double, int, const SolidReach<2>*);
+template std::size_t put_back_leaked<3>(Particles<3>&, const Solids<3>&, double, int, const SolidReach<3>*);
 template std::size_t stop_wall_approach<2>(Particles<2>&, const Solids<2>&, double,
-                                           const Particles<2>::Vector<double>*, double, int);
+                                           const Particles<2>::Vector<double>*, double, int, const SolidReach<2>*);
 template std::size_t stop_wall_approach<3>(Particles<3>&, const Solids<3>&, double,
-                                           const Particles<3>::Vector<double>*, double, int);
+                                           const Particles<3>::Vector<double>*, double, int, const SolidReach<3>*);
 
 }  // namespace sluice

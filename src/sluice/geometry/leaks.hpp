@@ -3,16 +3,57 @@
 // density is re-interpolated from its neighbours at the next force evaluation. Never deleted.
 #pragma once
 
+#include <array>
 #include <cstddef>
+#include <cstdint>
+#include <vector>
 
 #include "sluice/core/particles.hpp"
 #include "sluice/geometry/solid.hpp"
 
 namespace sluice {
 
-// Returns the number of particles put back.
+// Where no solid is near: a grid of cells over a box, each cell marked clear when every point of it
+// is outside every solid and further than `reach` from its surface. A cell is clear when the signed
+// distance at its centre, less half the cell's diagonal, exceeds `reach` for every solid: a distance
+// changes by at most the distance moved. Built once for the solids (which do not move); the leak and
+// wall-approach checks then skip the particles in clear cells, most of the water, instead of asking
+// each solid for each particle's distance at every step. A point outside the box, or one that is not
+// a number, is never clear. Default-constructed, nothing is clear.
 template <int Dim>
-std::size_t put_back_leaked(Particles<Dim>& p, const Solids<Dim>& solids, double dx, int threads = 1);
+class SolidReach {
+ public:
+  SolidReach() = default;
+  // `cell` is enlarged if the box would need more than `max_cells` cells.
+  SolidReach(const Solids<Dim>& solids, const Vec<Dim>& lower, const Vec<Dim>& upper, double cell, double reach,
+             std::size_t max_cells = std::size_t{1} << 22);
+
+  [[nodiscard]] bool clear(const Vec<Dim>& x) const {
+    std::size_t c = 0;
+    for (int d = Dim - 1; d >= 0; --d) {
+      const double u = (x[d] - lower_[d]) * inv_cell_;
+      if (!(u >= 0.0 && u < static_cast<double>(count_[d]))) return false;
+      c = c * static_cast<std::size_t>(count_[d]) + static_cast<std::size_t>(u);
+    }
+    return clear_[c] != 0;
+  }
+  [[nodiscard]] double reach() const { return reach_; }
+  // The fraction of the cells that are clear (for tests and diagnostics).
+  [[nodiscard]] double clear_fraction() const;
+
+ private:
+  Vec<Dim> lower_{};
+  std::array<int, Dim> count_{};
+  double inv_cell_ = 0.0;
+  double reach_ = 0.0;
+  std::vector<std::uint8_t> clear_;
+};
+
+// Returns the number of particles put back. With `near`, only particles outside its clear cells are
+// checked (its reach must be at least 0).
+template <int Dim>
+std::size_t put_back_leaked(Particles<Dim>& p, const Solids<Dim>& solids, double dx, int threads = 1,
+                            const SolidReach<Dim>* near = nullptr);
 
 // No penetration (physics.wall_no_penetration; the idea of DualSPHysics 5.4's mDBC penetration
 // control, on the walls' geometry): before a drift, a fluid particle closer than dx/4 to a wall surface
@@ -20,10 +61,11 @@ std::size_t put_back_leaked(Particles<Dim>& p, const Solids<Dim>& solids, double
 // loses the part f (u.n) n of its velocity, f = 1 - 4 d/dx clamped to [0, 2] at signed distance d:
 // nothing at dx/4 (water at rest sits at dx/2), the approach stopped at the surface, reflected a
 // quarter spacing inside. tau a is the acceleration the drift adds (the leapfrog's half kick; else
-// none). Returns the number of particles changed.
+// none). Returns the number of particles changed. With `near` (its reach at least dx/4), only
+// particles outside its clear cells are checked.
 template <int Dim>
 std::size_t stop_wall_approach(Particles<Dim>& p, const Solids<Dim>& solids, double dx,
                                const typename Particles<Dim>::template Vector<double>* acceleration, double tau,
-                               int threads = 1);
+                               int threads = 1, const SolidReach<Dim>* near = nullptr);
 
 }  // namespace sluice

@@ -121,10 +121,13 @@ struct CellBlock {
 //
 // For a wall particle i (`WallI`), only the lanes of fluid candidates count: a wall-wall pair gives
 // nothing that is used (the walls do not move, the continuity equation sees them at rest, and
-// density diffusion acts between fluid particles only), so vectors of wall candidates are skipped.
+// density diffusion acts between fluid particles only), so vectors of wall candidates are skipped,
+// and ranges without a fluid particle (`fluid_before`, the fluid particles before each index) are
+// passed over without their distances.
 template <int Dim, bool WallI, class Pair, class R = typename Pair::Real>
 HWY_INLINE void evaluate_pairs(const Pair& shared_pair, std::uint32_t i, const std::array<R, Dim>& xi,
-                               const std::array<const R*, Dim>& x, const R* fluid, std::size_t size, double support2,
+                               const std::array<const R*, Dim>& x, const R* fluid,
+                               const std::uint32_t* fluid_before, std::size_t size, double support2,
                                double min_r2, CellBlock<Dim, Pair::kOutputs, R>& block,
                                const std::array<double*, Pair::kOutputs>& out, double& speed2_max, double& r2_min) {
   using V = simd::Lanes<R>;
@@ -151,6 +154,9 @@ HWY_INLINE void evaluate_pairs(const Pair& shared_pair, std::uint32_t i, const s
     if (k == 0) {
       if (i + 1 >= e) continue;
       j = b + (i + 1 - b) / static_cast<std::uint32_t>(N) * static_cast<std::uint32_t>(N);
+    }
+    if constexpr (WallI) {
+      if (fluid_before[e] == fluid_before[k == 0 ? i + 1 : b]) continue;
     }
     for (; j < e; j += static_cast<std::uint32_t>(N)) {
       const std::size_t skip = (k == 0 && j <= i) ? i + 1 - j : 0;
@@ -243,11 +249,11 @@ HWY_INLINE void for_each_pair(const Pair& pair, const CellGrid<Dim>& grid, const
           std::array<R, Dim> xi{};
           for (int d = 0; d < Dim; ++d) xi[d] = x[d][i];
           if (fluid[i] == 0.0)
-            evaluate_pairs<Dim, true>(pair, i, xi, x, fluid, static_cast<std::size_t>(n), support2, min_r2, block, out,
-                                      speed2, r2);
+            evaluate_pairs<Dim, true>(pair, i, xi, x, fluid, fluid_before.data(), static_cast<std::size_t>(n), support2,
+                                      min_r2, block, out, speed2, r2);
           else
-            evaluate_pairs<Dim, false>(pair, i, xi, x, fluid, static_cast<std::size_t>(n), support2, min_r2, block,
-                                       out, speed2, r2);
+            evaluate_pairs<Dim, false>(pair, i, xi, x, fluid, fluid_before.data(), static_cast<std::size_t>(n),
+                                       support2, min_r2, block, out, speed2, r2);
         }
         block.finish(out);
       }

@@ -13,6 +13,7 @@
 #include "sluice/case/case.hpp"
 #include "sluice/core/particles.hpp"
 #include "sluice/core/reduce.hpp"
+#include "sluice/geometry/leaks.hpp"
 #include "sluice/geometry/solid.hpp"
 #include "sluice/neighbors/cell_grid.hpp"
 #include "sluice/solver/distribution.hpp"
@@ -208,6 +209,7 @@ class Solver {
   Case case_;
   Particles<Dim> particles_;
   Solids<Dim> solids_;
+  SolidReach<Dim> solid_reach_;  // where the leak checks can skip the water
   CellGrid<Dim> grid_;
   bool grid_binned_ = false;
   KernelVariant kernel_{CubicSpline<Dim>(1.0)};

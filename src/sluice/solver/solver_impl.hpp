@@ -110,6 +110,9 @@ void Solver<Dim>::init(const Case& c) {
     upper[d] = size[d] + margin;
   }
   grid_ = CellGrid<Dim>(lower, upper, 2.0 * h);
+  // The leak and wall-approach checks skip the water away from the walls (the wall-approach band is
+  // dx/4 wide).
+  solid_reach_ = SolidReach<Dim>(solids_, lower, upper, 2.0 * h, 0.25 * c.dx);
   for (int d = 0; d < Dim; ++d) pair_origin_[d] = 0.5 * size[d];
 }
 
@@ -278,7 +281,7 @@ void Solver<Dim>::leapfrog_step(double time_limit, bool shepard_due) {
 template <int Dim>
 void Solver<Dim>::stop_wall_approach_before_drift(const typename Particles<Dim>::template Vector<double>* acceleration,
                                                   double tau) {
-  if (case_.wall_no_penetration) stop_wall_approach(particles_, solids_, case_.dx, acceleration, tau, threads_);
+  if (case_.wall_no_penetration) stop_wall_approach(particles_, solids_, case_.dx, acceleration, tau, threads_, &solid_reach_);
 }
 
 // What follows every integrator's update: the particle shift, the put-back of leaked particles, the clock.
@@ -287,7 +290,7 @@ void Solver<Dim>::finish_step(const StepSize& size, double time_limit) {
   const double dt = size.dt;
   if (shifting_.coefficient > 0.0) shift_.apply(particles_, dt, threads_);
   strip_ghosts();
-  const auto leaked = static_cast<std::int64_t>(put_back_leaked(particles_, solids_, case_.dx, threads_));
+  const auto leaked = static_cast<std::int64_t>(put_back_leaked(particles_, solids_, case_.dx, threads_, &solid_reach_));
   clock_.leaks += leaked;
   clock_.outflow += remove_outflow();
   // A put-back particle moved (and its density is repaired at the next evaluation): the carried
