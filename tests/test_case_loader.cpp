@@ -704,6 +704,16 @@ TEST(CaseBuiltins, DamBreakIsBuiltIn) {
   EXPECT_FALSE(load_builtin_case("no_such_case").has_value());
 }
 
+// The integrators the built-in cases run (README, "Time integration"): the default case and spheric2
+// the leapfrog, one force evaluation per step; the validation cases the predictor-corrector, the
+// default of a case file that does not say.
+TEST(CaseBuiltins, TheDefaultCaseRunsTheLeapfrog) {
+  EXPECT_EQ(load_builtin_case("dam_break")->integrator, Integrator::leapfrog);
+  EXPECT_EQ(load_builtin_case("spheric2")->integrator, Integrator::leapfrog);
+  for (const char* name : {"martin_moyce", "koshizuka_oka", "buchner"})
+    EXPECT_EQ(load_builtin_case(name)->integrator, Integrator::predictor_corrector) << name;
+}
+
 TEST(CaseBuiltins, EveryBuiltInCaseLoadsAndIsNamedAfterItsFile) {
   ASSERT_FALSE(builtin_cases().empty());
   for (const auto& b : builtin_cases()) {
