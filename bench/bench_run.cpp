@@ -13,11 +13,13 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <set>
 #include <sstream>
 #include <string>
 #include <tuple>
@@ -120,6 +122,39 @@ void print_speedups(double dx, const std::vector<std::tuple<int, bool, double>>&
   }
 }
 
+// Speed per particle of each size larger than the one nearest 100,000 particles, over that size's (one
+// line per thread count and precision): the O(N) check, issue figures "1M within 15 % of 100k".
+struct SizeRun {
+  double dx;
+  long particles;
+  int threads;
+  bool single;
+  double evals;
+};
+
+void print_scaling(const std::vector<SizeRun>& runs) {
+  if (runs.empty()) return;
+  const auto distance = [](long n) { return std::abs(std::log(static_cast<double>(n) / 1e5)); };
+  const SizeRun* reference = &runs.front();
+  for (const SizeRun& r : runs)
+    if (distance(r.particles) < distance(reference->particles)) reference = &r;
+  const auto mean = [&](double dx, int threads, bool single) {
+    double sum = 0.0;
+    int count = 0;
+    for (const SizeRun& r : runs)
+      if (r.dx == dx && r.threads == threads && r.single == single) sum += r.evals, ++count;
+    return count > 0 ? sum / count : 0.0;
+  };
+  std::set<std::tuple<double, int, bool>> done;
+  for (const SizeRun& r : runs) {
+    if (r.particles <= reference->particles || !done.insert({r.dx, r.threads, r.single}).second) continue;
+    const double base = mean(reference->dx, r.threads, r.single);
+    if (base <= 0.0) continue;
+    fmt::print("{:>8} per particle over {} ({} particles), {} threads, {}: {:.2f}\n", r.dx, reference->dx,
+               reference->particles, r.threads, r.single ? "single" : "double", mean(r.dx, r.threads, r.single) / base);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -184,6 +219,7 @@ int main(int argc, char** argv) {
   fmt::print("{}: {}\n", name, simd_target());
   fmt::print("{:>8} {:>7} {:>9} {:>10} {:>6} {:>9} {:>14} {:>14} {:>10}\n", "dx [m]", "threads", "precision",
              "particles", "steps", "wall [s]", "M p-steps/s", "M p-evals/s", "B/particle");
+  std::vector<SizeRun> all_runs;
   for (double dx : dxs) {
     // Particle-evaluations per second of each run at this dx, for the speed-up line below.
     std::vector<std::tuple<int, bool, double>> runs;
@@ -204,9 +240,11 @@ int main(int argc, char** argv) {
       table += fmt::format("{},{},{},{},{},{},{},{:.4f},{:.0f},{:.0f},{:.1f}\n", name, dx, r.threads, precision,
                            r.particles, r.steps, r.evaluations_per_step, r.wall, psteps, evals, bytes);
       runs.emplace_back(r.threads, r.single, evals);
+      all_runs.push_back({dx, r.particles, r.threads, r.single, evals});
     }
     print_speedups(dx, runs);
   }
+  print_scaling(all_runs);
   std::ofstream out(csv);
   out << table;
   if (!out) {
