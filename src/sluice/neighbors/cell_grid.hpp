@@ -75,7 +75,6 @@ class CellGrid {
     const int teams = n >= parallel::light_loop_threshold ? std::max(1, threads) : 1;
     cell_of_.resize(static_cast<std::size_t>(n));
     order_.resize(static_cast<std::size_t>(n));
-    sorted_cell_.resize(static_cast<std::size_t>(n));
     cursor_.resize(static_cast<std::size_t>(teams) * cells);
     cells_before_.assign(static_cast<std::size_t>(teams) + 1, 0u);
     parallel::in_team(teams, teams > 1, [&](const parallel::Team& team) {
@@ -115,10 +114,11 @@ class CellGrid {
       team.barrier();
       for (long i = begin; i < end; ++i) order_[count[cell_of_[i]]++] = static_cast<std::uint32_t>(i);
       team.barrier();
-      // Cell of each particle in sorted order (this thread's share; the region's end is the barrier).
-      for (long k = begin; k < end; ++k) sorted_cell_[k] = cell_of_[order_[k]];
+      // Cell of each particle in sorted order, written over the unsorted cells, which no thread reads
+      // any more: the particles of this thread's share of the cells (the region's end is the barrier).
+      for (std::size_t c = c_begin; c < c_end; ++c)
+        std::fill(cell_of_.begin() + cell_start_[c], cell_of_.begin() + cell_start_[c + 1], static_cast<std::uint32_t>(c));
     });
-    cell_of_.swap(sorted_cell_);
   }
 
   // After the caller removed the particles with keep[i] == 0 (keeping the others' order): the cells
@@ -333,7 +333,6 @@ class CellGrid {
   double inv_cell_size_ = 1.0;
   std::vector<std::uint32_t> cell_start_{0};
   std::vector<std::uint32_t> cell_of_;
-  std::vector<std::uint32_t> sorted_cell_;
   std::vector<std::uint32_t> order_;
   std::vector<std::uint32_t> cursor_;
   std::vector<std::uint32_t> cells_before_;  // bin: the particles in the cells of the threads before each
