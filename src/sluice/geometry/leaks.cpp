@@ -77,7 +77,7 @@ template <int Dim>
 SolidReach<Dim>::SolidReach(const Solids<Dim>& solids, const Vec<Dim>& lower, const Vec<Dim>& upper, double cell,
                             double reach, std::size_t max_cells)
     : lower_(lower), reach_(reach) {
-  if (!(cell > 0.0) || !(reach >= 0.0)) throw std::invalid_argument("SolidReach: cell size and reach must be positive");
+  if (!(cell > 0.0) || !(reach >= 0.0)) throw std::invalid_argument("SolidReach: the cell size must be positive and the reach not negative");
   const auto cells_of = [&](double size) {
     std::size_t total = 1;
     for (int d = 0; d < Dim; ++d) {
