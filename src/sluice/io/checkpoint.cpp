@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <type_traits>
 
 #include "sluice/case/params.hpp"
@@ -19,13 +20,31 @@ namespace {
 
 constexpr char magic[8] = {'S', 'L', 'U', 'I', 'C', 'E', 'C', 'K'};
 
-template <class T>
-void put(std::string& out, const T& value) {
+// Passes bytes on to a sink as they come, with their running checksum: the particles' arrays go to
+// the file without a copy of the whole checkpoint in memory.
+struct SinkWriter {
+  const ByteSink& out;
+  std::uint32_t crc = 0;
+  void append(const char* data, std::size_t n) {
+    constexpr std::size_t chunk = std::size_t{1} << 30;  // zlib takes at most 4 GiB - 1 at a time
+    for (std::size_t at = 0; at < n; at += chunk)
+      crc = static_cast<std::uint32_t>(
+          crc32(crc, reinterpret_cast<const Bytef*>(data + at), static_cast<uInt>(std::min(chunk, n - at))));
+    out(std::string_view(data, n));
+  }
+  SinkWriter& operator+=(std::string_view s) {
+    append(s.data(), s.size());
+    return *this;
+  }
+};
+
+template <class T, class Out>
+void put(Out& out, const T& value) {
   out.append(reinterpret_cast<const char*>(&value), sizeof(T));
 }
 
-template <class T>
-void put_array(std::string& out, const std::vector<T>& v) {
+template <class T, class Out>
+void put_array(Out& out, const std::vector<T>& v) {
   out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
 }
 
@@ -105,8 +124,8 @@ unsigned stored_roles(bool rates_carried) {
   return field_role::checkpoint | (rates_carried ? field_role::carried : 0u);
 }
 
-template <int Dim>
-void put_particles(std::string& out, const Particles<Dim>& p, bool rates_carried) {
+template <int Dim, class Out>
+void put_particles(Out& out, const Particles<Dim>& p, bool rates_carried) {
   const unsigned roles = stored_roles(rates_carried);
   std::uint32_t fields = 0;
   Particles<Dim>::fields(p, [&](const FieldSpec& info, const auto&) { fields += info.has(roles); });
@@ -152,40 +171,43 @@ Particles<Dim> get_particles(Reader& r, std::size_t n, bool rates_carried) {
 
 }  // namespace
 
-std::string checkpoint_bytes(const Simulation& sim, double wall_seconds) {
-  std::string out(magic, sizeof magic);
-  put<std::uint32_t>(out, checkpoint_format_version);
-  put<std::uint32_t>(out, static_cast<std::uint32_t>(sim.dimension()));
+void write_checkpoint_bytes(const Simulation& sim, double wall_seconds, const ByteSink& sink) {
+  std::string head(magic, sizeof magic);
+  put<std::uint32_t>(head, checkpoint_format_version);
+  put<std::uint32_t>(head, static_cast<std::uint32_t>(sim.dimension()));
   const std::string case_text = case_template(sim.config());
-  put<std::uint64_t>(out, case_text.size());
-  out += case_text;
+  put<std::uint64_t>(head, case_text.size());
+  head += case_text;
   const Clock& c = sim.clock();
-  put(out, c.time);
-  put(out, c.step);
-  put(out, c.last_dt);
-  put(out, c.leaks);
-  put(out, wall_seconds);
-  put<std::uint8_t>(out, c.rates_carried ? 1 : 0);
+  put(head, c.time);
+  put(head, c.step);
+  put(head, c.last_dt);
+  put(head, c.leaks);
+  put(head, wall_seconds);
+  put<std::uint8_t>(head, c.rates_carried ? 1 : 0);
   if (c.rates_carried) {
-    put(out, c.rates.max_acceleration);
-    put(out, c.rates.max_relative_speed);
-    put(out, c.rates.max_density);
-    put(out, c.rates.min_fluid_distance);
+    put(head, c.rates.max_acceleration);
+    put(head, c.rates.max_relative_speed);
+    put(head, c.rates.max_density);
+    put(head, c.rates.min_fluid_distance);
   }
-  put(out, c.outflow);
-  // Every process's particles, on the root (the other processes return nothing).
-  bool here = false;
+  put(head, c.outflow);
+  // Every process's particles, on the root (the other processes write nothing).
   sim.visit([&](const auto& solver) {
     solver.with_all_particles([&](const auto& p) {
+      SinkWriter out{sink};
+      out += head;
       put<std::uint64_t>(out, p.size());
       put_particles(out, p, c.rates_carried);
-      here = true;
+      const std::uint32_t crc = out.crc;
+      sink(std::string_view(reinterpret_cast<const char*>(&crc), sizeof crc));
     });
   });
-  if (!here) return {};
-  const auto crc = static_cast<std::uint32_t>(
-      crc32(0L, reinterpret_cast<const Bytef*>(out.data()), static_cast<uInt>(out.size())));
-  put(out, crc);
+}
+
+std::string checkpoint_bytes(const Simulation& sim, double wall_seconds) {
+  std::string out;
+  write_checkpoint_bytes(sim, wall_seconds, [&](std::string_view bytes) { out += bytes; });
   return out;
 }
 
@@ -294,8 +316,10 @@ Checkpoint parse_checkpoint(const std::string& bytes, const std::string& source)
 }
 
 void write_checkpoint(const std::filesystem::path& path, const Simulation& sim, double wall_seconds) {
-  const std::string bytes = checkpoint_bytes(sim, wall_seconds);  // collective with several processes
-  if (sim.is_root()) write_file_atomic(path, bytes);
+  std::optional<AtomicFile> file;
+  if (sim.is_root()) file.emplace(path);
+  write_checkpoint_bytes(sim, wall_seconds, [&](std::string_view bytes) { file->write(bytes); });  // collective
+  if (file) file->commit();
 }
 
 Checkpoint read_checkpoint(const std::filesystem::path& path) {

@@ -20,6 +20,7 @@
 #include <string>
 
 #include "sluice/case/case.hpp"
+#include "sluice/io/npz.hpp"  // ByteSink
 #include "sluice/simulation.hpp"
 
 namespace sluice {
@@ -34,7 +35,10 @@ struct Checkpoint {
 };
 
 // With several processes: collective; every process's particles, on the root in particle-id order
-// (the other processes get "", and write_checkpoint writes on the root only).
+// (the other processes write nothing: `out` is called on the root only, and checkpoint_bytes gives
+// them ""; write_checkpoint writes on the root only). write_checkpoint_bytes streams the checkpoint
+// to `out`, the particles' arrays without a copy.
+void write_checkpoint_bytes(const Simulation& sim, double wall_seconds, const ByteSink& out);
 std::string checkpoint_bytes(const Simulation& sim, double wall_seconds);
 Checkpoint parse_checkpoint(const std::string& bytes, const std::string& source);
 void write_checkpoint(const std::filesystem::path& path, const Simulation& sim, double wall_seconds);

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <functional>
 #include <numeric>
 #include <type_traits>
 
@@ -100,20 +101,28 @@ Frame make_frame(const Simulation& sim) {
   return f;
 }
 
-std::string frame_to_npz(const Frame& f) {
+void write_frame_npz(const Frame& f, const ByteSink& out) {
   const std::size_t n = f.size();
-  std::vector<std::pair<std::string, NpyArray>> arrays = {
-      {"t", NpyArray::of(std::vector<double>{f.time}, {})},
-      {"step", NpyArray::of(std::vector<std::int64_t>{f.step}, {})},
-      {"dx", NpyArray::of(std::vector<double>{f.dx}, {})},
+  const std::vector<double> t{f.time}, dx{f.dx};
+  const std::vector<std::int64_t> step{f.step};
+  std::vector<std::pair<std::string, NpyView>> arrays = {
+      {"t", NpyView::of(t, {})},
+      {"step", NpyView::of(step, {})},
+      {"dx", NpyView::of(dx, {})},
   };
   for (const FrameField& field : f.fields) {
     std::vector<std::size_t> shape{n};
     if (field.vector) shape.push_back(static_cast<std::size_t>(f.dimension));
     arrays.emplace_back(field.short_name,
-                        std::visit([&](const auto& values) { return NpyArray::of(values, shape); }, field.values));
+                        std::visit([&](const auto& values) { return NpyView::of(values, shape); }, field.values));
   }
-  return make_npz(arrays);
+  write_npz(arrays, out);
+}
+
+std::string frame_to_npz(const Frame& f) {
+  std::string bytes;
+  write_frame_npz(f, [&](std::string_view b) { bytes += b; });
+  return bytes;
 }
 
 Frame frame_from_npz(const std::string& bytes, const std::string& source) {
@@ -157,21 +166,19 @@ Frame read_npz_frame(const std::filesystem::path& path) {
 
 namespace {
 
+// An array of the appended data block: its declaration, and how to write its bytes.
 struct AppendedArray {
   std::string name;
   std::string type;  // VTK type name
   int components = 1;
-  std::string bytes;
+  std::uint64_t bytes = 0;
+  std::function<void(const ByteSink&)> write;
 };
-
-template <class T>
-std::string raw_bytes(const std::vector<T>& v) {
-  return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
-}
 
 template <class T>
 std::string vtk_type() {
   if constexpr (std::is_same_v<T, double>) return "Float64";
+  else if constexpr (std::is_same_v<T, std::int64_t>) return "Int64";
   else if constexpr (std::is_same_v<T, std::uint32_t>) return "UInt32";
   else {
     static_assert(std::is_same_v<T, std::uint8_t>, "a frame field of a type the .vtu writer does not name");
@@ -179,30 +186,51 @@ std::string vtk_type() {
   }
 }
 
-// A frame field as a VTK array; vectors get three components (VTK has no 2D points or vectors).
+// Values made on the way out, a block at a time: value(i) for i < n, as `components` per value.
+template <class T, class F>
+void write_generated(const ByteSink& out, std::size_t n, F&& value) {
+  constexpr std::size_t block = 4096;
+  std::vector<T> buffer;
+  buffer.reserve(block);
+  for (std::size_t first = 0; first < n; first += block) {
+    buffer.clear();
+    for (std::size_t i = first; i < std::min(n, first + block); ++i) value(i, buffer);
+    out(std::string_view(reinterpret_cast<const char*>(buffer.data()), buffer.size() * sizeof(T)));
+  }
+}
+
+// A frame field as a VTK array; vectors get three components (VTK has no 2D points or vectors),
+// padded on the way out.
 AppendedArray vtk_array(const FrameField& field, std::size_t dimension) {
   return std::visit(
       [&](const auto& values) {
         using T = typename std::decay_t<decltype(values)>::value_type;
-        if (!field.vector) return AppendedArray{field.name, vtk_type<T>(), 1, raw_bytes(values)};
+        if (!field.vector)
+          return AppendedArray{field.name, vtk_type<T>(), 1, values.size() * sizeof(T), [&values](const ByteSink& out) {
+                                 out(std::string_view(reinterpret_cast<const char*>(values.data()),
+                                                      values.size() * sizeof(T)));
+                               }};
         const std::size_t n = values.size() / dimension;
-        std::vector<T> padded(3 * n, T{});
-        for (std::size_t i = 0; i < n; ++i)
-          for (std::size_t d = 0; d < dimension; ++d) padded[3 * i + d] = values[dimension * i + d];
-        return AppendedArray{field.name, vtk_type<T>(), 3, raw_bytes(padded)};
+        return AppendedArray{field.name, vtk_type<T>(), 3, 3 * n * sizeof(T), [&values, n, dimension](const ByteSink& out) {
+                               write_generated<T>(out, n, [&](std::size_t i, std::vector<T>& b) {
+                                 for (std::size_t d = 0; d < 3; ++d) b.push_back(d < dimension ? values[dimension * i + d] : T{});
+                               });
+                             }};
       },
       field.values);
 }
 
+template <class T, class F>
+AppendedArray generated_array(std::string name, std::size_t n, F value) {
+  return AppendedArray{std::move(name), vtk_type<T>(), 1, n * sizeof(T), [n, value](const ByteSink& out) {
+                         write_generated<T>(out, n, [&](std::size_t i, std::vector<T>& b) { b.push_back(value(i)); });
+                       }};
+}
+
 }  // namespace
 
-std::string frame_to_vtu(const Frame& f) {
+void write_frame_vtu(const Frame& f, const ByteSink& out) {
   const std::size_t n = f.size();
-  std::vector<std::int64_t> connectivity(n), offsets(n);
-  std::iota(connectivity.begin(), connectivity.end(), 0);
-  std::iota(offsets.begin(), offsets.end(), 1);
-  const std::vector<std::uint8_t> cell_types(n, 1);  // VTK_VERTEX
-
   AppendedArray points_array;
   std::vector<AppendedArray> point_data;
   for (const FrameField& field : f.fields) {
@@ -214,23 +242,23 @@ std::string frame_to_vtu(const Frame& f) {
       point_data.push_back(std::move(a));
     }
   }
+  // One vertex cell per particle.
   const std::vector<AppendedArray> cell_arrays = {
-      {"connectivity", "Int64", 1, raw_bytes(connectivity)},
-      {"offsets", "Int64", 1, raw_bytes(offsets)},
-      {"types", "UInt8", 1, raw_bytes(cell_types)},
+      generated_array<std::int64_t>("connectivity", n, [](std::size_t i) { return static_cast<std::int64_t>(i); }),
+      generated_array<std::int64_t>("offsets", n, [](std::size_t i) { return static_cast<std::int64_t>(i + 1); }),
+      generated_array<std::uint8_t>("types", n, [](std::size_t) { return std::uint8_t{1}; }),  // VTK_VERTEX
   };
 
-  std::string xml, appended;
+  std::string xml;
+  std::uint64_t offset = 0;
   auto declare = [&](const AppendedArray& a) {
     // Scalars leave NumberOfComponents at its default of 1, so readers give them shape (N,), not (N, 1).
     const std::string components =
         a.components == 1 ? std::string() : fmt::format(R"( NumberOfComponents="{}")", a.components);
     xml += fmt::format(R"(        <DataArray type="{}" Name="{}"{} format="appended" offset="{}"/>)"
                        "\n",
-                       a.type, a.name, components, appended.size());
-    const std::uint64_t size = a.bytes.size();
-    appended.append(reinterpret_cast<const char*>(&size), sizeof size);
-    appended += a.bytes;
+                       a.type, a.name, components, offset);
+    offset += sizeof(std::uint64_t) + a.bytes;
   };
   xml += "<?xml version=\"1.0\"?>\n";
   xml += "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n";
@@ -248,9 +276,23 @@ std::string frame_to_vtu(const Frame& f) {
   for (const auto& a : cell_arrays) declare(a);
   xml += "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n";
   xml += "  <AppendedData encoding=\"raw\">\n   _";
-  xml += appended;
-  xml += "\n  </AppendedData>\n</VTKFile>\n";
-  return xml;
+  out(xml);
+  // The appended block, in the order declared: each array's byte count, then its bytes.
+  auto append = [&](const AppendedArray& a) {
+    const std::uint64_t size = a.bytes;
+    out(std::string_view(reinterpret_cast<const char*>(&size), sizeof size));
+    a.write(out);
+  };
+  for (const auto& a : point_data) append(a);
+  append(points_array);
+  for (const auto& a : cell_arrays) append(a);
+  out("\n  </AppendedData>\n</VTKFile>\n");
+}
+
+std::string frame_to_vtu(const Frame& f) {
+  std::string bytes;
+  write_frame_vtu(f, [&](std::string_view b) { bytes += b; });
+  return bytes;
 }
 
 std::string pvd_header() {

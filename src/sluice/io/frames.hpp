@@ -14,6 +14,7 @@
 #include <variant>
 #include <vector>
 
+#include "sluice/io/npz.hpp"
 #include "sluice/simulation.hpp"
 
 namespace sluice {
@@ -76,12 +77,16 @@ Frame make_frame(const Simulation& sim);
 
 // NumPy: arrays t, step, dx, then each field under its short name: x (N, dimension), v (N, dimension),
 // rho, p, kind, id.
+// write_frame_npz streams the file to `out` without copying the frame's arrays; frame_to_npz returns it.
+void write_frame_npz(const Frame& f, const ByteSink& out);
 std::string frame_to_npz(const Frame& f);
 Frame frame_from_npz(const std::string& bytes, const std::string& source);
 Frame read_npz_frame(const std::filesystem::path& path);
 
 // VTK XML UnstructuredGrid (.vtu) with raw appended binary data; one vertex cell per particle, the
 // position as the points and the other fields as point data (vectors with three components).
+// write_frame_vtu streams it, padding the vectors a block at a time; frame_to_vtu returns it.
+void write_frame_vtu(const Frame& f, const ByteSink& out);
 std::string frame_to_vtu(const Frame& f);
 
 // A ParaView collection: (time, relative file name) per frame. The entries are lines between a fixed

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <zlib.h>
 
+#include <algorithm>
 #include <bit>
 #include <charconv>
 #include <cctype>
@@ -74,13 +75,14 @@ T get(const std::string& in, std::size_t at) {
   return value;
 }
 
-std::string npy_bytes(const NpyArray& a) {
+// The .npy header of an array: magic, version, length, and the dict padded so that the data starts
+// at a multiple of 64 bytes (magic 6 + version 2 + length 2 + header).
+std::string npy_header(const std::string& dtype, const std::vector<std::size_t>& dims) {
   std::string shape;
-  for (std::size_t s : a.shape) shape += fmt::format("{}, ", s);
-  if (a.shape.size() > 1) shape.resize(shape.size() - 2);
-  else if (a.shape.size() == 1) shape.resize(shape.size() - 1);
-  std::string header = fmt::format("{{'descr': '{}', 'fortran_order': False, 'shape': ({}), }}", a.dtype, shape);
-  // Pad so the data starts at a multiple of 64 bytes (magic 6 + version 2 + length 2 + header).
+  for (std::size_t s : dims) shape += fmt::format("{}, ", s);
+  if (dims.size() > 1) shape.resize(shape.size() - 2);
+  else if (dims.size() == 1) shape.resize(shape.size() - 1);
+  std::string header = fmt::format("{{'descr': '{}', 'fortran_order': False, 'shape': ({}), }}", dtype, shape);
   const std::size_t total = 10 + header.size() + 1;
   header.append((64 - total % 64) % 64, ' ');
   header += '\n';
@@ -89,8 +91,17 @@ std::string npy_bytes(const NpyArray& a) {
   out += '\x00';
   put<std::uint16_t>(out, static_cast<std::uint16_t>(header.size()));
   out += header;
-  out += a.bytes;
   return out;
+}
+
+std::uint32_t crc_of(std::uint32_t crc, std::string_view bytes) {
+  // zlib takes at most 4 GiB - 1 at a time.
+  constexpr std::size_t chunk = std::size_t{1} << 30;
+  for (std::size_t at = 0; at < bytes.size(); at += chunk) {
+    const std::size_t n = std::min(chunk, bytes.size() - at);
+    crc = static_cast<std::uint32_t>(crc32(crc, reinterpret_cast<const Bytef*>(bytes.data() + at), static_cast<uInt>(n)));
+  }
+  return crc;
 }
 
 NpyArray parse_npy(const std::string& b, const std::string& name) {
@@ -161,30 +172,38 @@ constexpr std::uint16_t dos_date = (1 << 5) | 1;
 
 }  // namespace
 
-std::string make_npz(const std::vector<std::pair<std::string, NpyArray>>& arrays) {
-  std::string out, directory;
+void write_npz(const std::vector<std::pair<std::string, NpyView>>& arrays, const ByteSink& out) {
+  std::string directory;
+  std::uint64_t written = 0;
+  auto emit = [&](std::string_view bytes) {
+    out(bytes);
+    written += bytes.size();
+  };
   for (const auto& [name, array] : arrays) {
     const std::string file = name + ".npy";
-    const std::string data = npy_bytes(array);
-    if (out.size() > 0xFFFFFFFFu || data.size() > 0xFFFFFFFFu)
+    const std::string header = npy_header(array.dtype, array.shape);
+    const std::uint64_t data_size = header.size() + array.bytes.size();
+    if (written > 0xFFFFFFFFu || data_size > 0xFFFFFFFFu)
       throw FormatError("npz entry larger than 4 GiB (zip64 is not supported)");
-    const auto crc = static_cast<std::uint32_t>(
-        crc32(0L, reinterpret_cast<const Bytef*>(data.data()), static_cast<uInt>(data.size())));
-    const auto offset = static_cast<std::uint32_t>(out.size());
-    const auto size = static_cast<std::uint32_t>(data.size());
-    put<std::uint32_t>(out, 0x04034b50);
-    put<std::uint16_t>(out, 20);  // version needed
-    put<std::uint16_t>(out, 0);   // flags
-    put<std::uint16_t>(out, 0);   // stored
-    put<std::uint16_t>(out, dos_time);
-    put<std::uint16_t>(out, dos_date);
-    put<std::uint32_t>(out, crc);
-    put<std::uint32_t>(out, size);
-    put<std::uint32_t>(out, size);
-    put<std::uint16_t>(out, static_cast<std::uint16_t>(file.size()));
-    put<std::uint16_t>(out, 0);
-    out += file;
-    out += data;
+    const std::uint32_t crc = crc_of(crc_of(0, header), array.bytes);
+    const auto offset = static_cast<std::uint32_t>(written);
+    const auto size = static_cast<std::uint32_t>(data_size);
+    std::string local;
+    put<std::uint32_t>(local, 0x04034b50);
+    put<std::uint16_t>(local, 20);  // version needed
+    put<std::uint16_t>(local, 0);   // flags
+    put<std::uint16_t>(local, 0);   // stored
+    put<std::uint16_t>(local, dos_time);
+    put<std::uint16_t>(local, dos_date);
+    put<std::uint32_t>(local, crc);
+    put<std::uint32_t>(local, size);
+    put<std::uint32_t>(local, size);
+    put<std::uint16_t>(local, static_cast<std::uint16_t>(file.size()));
+    put<std::uint16_t>(local, 0);
+    local += file;
+    local += header;
+    emit(local);
+    emit(array.bytes);
 
     put<std::uint32_t>(directory, 0x02014b50);
     put<std::uint16_t>(directory, 20);  // made by
@@ -205,16 +224,25 @@ std::string make_npz(const std::vector<std::pair<std::string, NpyArray>>& arrays
     put<std::uint32_t>(directory, offset);
     directory += file;
   }
-  const auto directory_offset = static_cast<std::uint32_t>(out.size());
-  out += directory;
-  put<std::uint32_t>(out, 0x06054b50);
-  put<std::uint16_t>(out, 0);
-  put<std::uint16_t>(out, 0);
-  put<std::uint16_t>(out, static_cast<std::uint16_t>(arrays.size()));
-  put<std::uint16_t>(out, static_cast<std::uint16_t>(arrays.size()));
-  put<std::uint32_t>(out, static_cast<std::uint32_t>(directory.size()));
-  put<std::uint32_t>(out, directory_offset);
-  put<std::uint16_t>(out, 0);
+  if (written > 0xFFFFFFFFu) throw FormatError("npz file larger than 4 GiB (zip64 is not supported)");
+  const auto directory_offset = static_cast<std::uint32_t>(written);
+  std::string end = directory;
+  put<std::uint32_t>(end, 0x06054b50);
+  put<std::uint16_t>(end, 0);
+  put<std::uint16_t>(end, 0);
+  put<std::uint16_t>(end, static_cast<std::uint16_t>(arrays.size()));
+  put<std::uint16_t>(end, static_cast<std::uint16_t>(arrays.size()));
+  put<std::uint32_t>(end, static_cast<std::uint32_t>(directory.size()));
+  put<std::uint32_t>(end, directory_offset);
+  put<std::uint16_t>(end, 0);
+  emit(end);
+}
+
+std::string make_npz(const std::vector<std::pair<std::string, NpyArray>>& arrays) {
+  std::vector<std::pair<std::string, NpyView>> views;
+  for (const auto& [name, array] : arrays) views.push_back({name, NpyView{array.dtype, array.shape, array.bytes}});
+  std::string out;
+  write_npz(views, [&](std::string_view bytes) { out += bytes; });
   return out;
 }
 

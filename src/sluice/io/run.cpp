@@ -7,6 +7,7 @@
 #include <cmath>
 #include <memory>
 #include <new>
+#include <optional>
 
 #include "sluice/case/case_error.hpp"
 #include "sluice/case/params.hpp"
@@ -113,6 +114,13 @@ class Outputs {
     });
   }
 
+  template <class Write>
+  static void write_streamed(const std::filesystem::path& path, Write&& write) {
+    AtomicFile file(path);
+    write([&](std::string_view bytes) { file.write(bytes); });
+    file.commit();
+  }
+
   static std::string frame_stem(std::int64_t index) {
     return fmt::format("{}/frame_{:06}", output_files::frames_dir, index);
   }
@@ -122,9 +130,10 @@ class Outputs {
     const Diagnostics diagnostics = sim.diagnostics();
     on_root(comm_, [&] {
       const std::string stem = frame_stem(index);
-      if (write_npz_) write_file_atomic(dir_ / (stem + ".npz"), frame_to_npz(frame));
+      // Streamed into the files: a frame's bytes are never all in memory at once.
+      if (write_npz_) write_streamed(dir_ / (stem + ".npz"), [&](const ByteSink& out) { write_frame_npz(frame, out); });
       if (write_vtk_) {
-        write_file_atomic(dir_ / (stem + ".vtu"), frame_to_vtu(frame));
+        write_streamed(dir_ / (stem + ".vtu"), [&](const ByteSink& out) { write_frame_vtu(frame, out); });
         pvd_.append(pvd_entry(frame.time, stem + ".vtu"));
       }
       diagnostics_.append(diagnostics_row(diagnostics, wall_before_ + wall_seconds));
@@ -137,14 +146,29 @@ class Outputs {
 
   void write_checkpoint_file(const Simulation& sim, double wall_seconds) {
     // What a restart keeps (probe samples, diagnostics rows and .pvd entries up to the checkpoint) is
-    // on disk, durably, before the checkpoint is.
-    const std::string bytes = checkpoint_bytes(sim, wall_before_ + wall_seconds);  // collective
+    // on disk, durably, before the checkpoint is. The checkpoint is streamed into its file (collective:
+    // every process's particles, on the root); a write error on the root is held until every process
+    // is through, then thrown on all of them.
+    std::optional<AtomicFile> file;
     on_root(comm_, [&] {
       probes_.flush();
       probes_.sync();
       diagnostics_.sync();
       pvd_.sync();
-      write_file_atomic(dir_ / output_files::checkpoint, bytes);
+      file.emplace(dir_ / output_files::checkpoint);
+    });
+    std::string failed;
+    write_checkpoint_bytes(sim, wall_before_ + wall_seconds, [&](std::string_view bytes) {
+      if (!failed.empty()) return;
+      try {
+        file->write(bytes);
+      } catch (const std::exception& e) {
+        failed = e.what();
+      }
+    });
+    on_root(comm_, [&] {
+      if (!failed.empty()) throw IoError(failed);
+      file->commit();
     });
   }
 
