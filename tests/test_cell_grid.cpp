@@ -217,11 +217,23 @@ TEST(Particles, PermuteMovesEveryFieldWithTheParticle) {
       ASSERT_EQ(p.density_start[k], 7.0 * i);
       ASSERT_EQ(p.needs_density_repair[k], order[k] % 5 == 0);
     }
+    // The rates, recomputed after a reordering, were the spare arrays: the scratch took no memory.
+    EXPECT_EQ(scratch.capacity(), 0u) << threads;
     // Without the step-start state, it stays where it was.
     Particles<2> q = make();
     q.permute(order, scratch, false, threads);
     ASSERT_EQ(q.density_start[1], 7.0);
     ASSERT_EQ(q.density[1], 1000.0 + order[1]);
+    // Particles with their state only (no rates) reorder through the scratch.
+    Particles<2> r;
+    for (std::size_t i = 0; i < n; ++i) r.add({0.5 * i, 1.5 * i}, Kind::fluid, 1000.0 + i);
+    r.permute(order, scratch, false, threads);
+    EXPECT_EQ(scratch.size(), n);
+    for (std::size_t k = 0; k < n; ++k) {
+      ASSERT_EQ(r.position[1][k], 1.5 * order[k]);
+      ASSERT_EQ(r.density[k], 1000.0 + order[k]);
+    }
+    scratch = {};
   }
 }
 

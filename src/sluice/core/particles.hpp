@@ -168,9 +168,9 @@ struct Particles {
   }
 
   // The same for the state and the fields with any of the roles `also` (field_role::step_start,
-  // rates_start). `scratch` holds the double fields in turn (no allocation per call); so do the
-  // fields this reordering leaves behind that are recomputed after it (field_role::recomputed), whose
-  // contents are then unspecified.
+  // rates_start). The fields this reordering leaves behind that are recomputed after it
+  // (field_role::recomputed) hold the double fields in turn, their contents then unspecified; when
+  // none is in use, `scratch` does (no allocation per call).
   //
   // The copies run in one parallel region, each thread copying its static share of every field. A
   // field's old array can take another field's copy only once every thread has finished reading it,
@@ -180,17 +180,16 @@ struct Particles {
   void reorder(const std::vector<std::uint32_t>& order, std::vector<double>& scratch, unsigned also, int threads) {
     const long n = static_cast<long>(size());
     const auto un = static_cast<std::size_t>(n);
-    scratch.resize(un);
     std::get<std::vector<Kind>>(scratch_).resize(un);
     std::get<std::vector<std::uint32_t>>(scratch_).resize(un);
     std::get<std::vector<std::uint8_t>>(scratch_).resize(un);
     const unsigned moved = field_role::state | also;
 
     // The spare arrays of each type: the array that holds it (swapped into place afterwards), its
-    // data, and the first round in which it is free.
+    // data, and the first round in which it is free. The fields recomputed after the reordering are
+    // the spare doubles; `scratch` is used (and sized) only when there are none, so that it takes no
+    // memory in a run (8 bytes per particle).
     std::tuple<Spares<double>, Spares<Kind>, Spares<std::uint32_t>, Spares<std::uint8_t>> spares;
-    std::get<Spares<double>>(spares).push_back({&scratch, scratch.data(), 0});
-    std::apply([&](auto&... s) { (add_scratch(s), ...); }, spares);
     fields(*this, [&](const FieldSpec& info, auto& field) {
       if (info.has(moved) || !info.has(field_role::recomputed)) return;
       components(field, [&](auto& c) {
@@ -198,6 +197,11 @@ struct Particles {
         if (c.size() == un) std::get<Spares<T>>(spares).push_back({&c, c.data(), 0});
       });
     });
+    if (std::get<Spares<double>>(spares).empty()) {
+      scratch.resize(un);
+      std::get<Spares<double>>(spares).push_back({&scratch, scratch.data(), 0});
+    }
+    std::apply([&](auto&... s) { (add_scratch(s), ...); }, spares);
     // The plan: each moved component is copied into the spare array of its type that is free first;
     // its own array becomes free in the next round.
     std::vector<Copy> copies;

@@ -152,8 +152,9 @@ RateSummary Solver<Dim>::evaluate(bool shepard_due, unsigned also_moved, bool la
                                           [&](long i) -> long { return repair[i] != 0; }) > 0;
   if (dist) repair_due = reducer_->sum(static_cast<std::int64_t>(repair_due)) > 0;
   if (shepard_due || repair_due) {
+    // The density rates are recomputed below: until then their array is the filter's scratch.
     shepard_filter(particles_, grid_, kernel_, settings_.mass, shepard_due ? nullptr : &particles_.needs_density_repair,
-                   scratch_, pair_threads);
+                   particles_.density_rate, pair_threads);
     std::fill(particles_.needs_density_repair.begin(), particles_.needs_density_repair.end(), 0);
     if (dist) dist->refresh(particles_, {"density"});
   }
