@@ -1,6 +1,7 @@
 // The linked-cell search finds exactly the pairs a brute-force search finds, and sorts by cell; the
 // particles follow the order.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <atomic>
@@ -239,6 +240,37 @@ TEST(Particles, PermuteMovesEveryFieldWithTheParticle) {
 
 // parallel::for_each_dynamic (contiguous shares with stealing) visits every index exactly once on any
 // number of threads, also when the work is all in one thread's share.
+// A team of one thread runs outside any parallel region, with no barrier (libgomp's barrier and the end
+// of a region of one thread each make a futex system call: 16 a step of the default case); inside
+// another region it is still a team of its own, so the passes that share out work by the team's
+// index stay right there.
+TEST(Parallel, ATeamOfOneRunsWithoutARegionAndStaysItsOwnTeamInsideOne) {
+  bool in_region = true;
+  parallel::in_team(1, true, [&](const parallel::Team& team) {
+    in_region = omp_get_level() > 0;  // counts regions of one thread too, unlike omp_in_parallel
+    team.barrier();
+    EXPECT_EQ(team.index(), 0);
+    EXPECT_EQ(team.size(), 1);
+  });
+  EXPECT_FALSE(in_region);
+  const long n = 3 * parallel::light_loop_threshold + 7;
+  std::vector<std::uint32_t> expected(static_cast<std::size_t>(n) + 1, 0);
+  for (long i = 0; i < n; ++i) expected[static_cast<std::size_t>(i) + 1] = expected[static_cast<std::size_t>(i)] + (i % 3 == 0);
+  std::vector<std::vector<std::uint32_t>> got(2);
+  std::vector<int> sizes(2, 0);
+#pragma omp parallel num_threads(2)
+  {
+    const int t = omp_get_thread_num();
+    parallel::prefix_count(n, 1, got[static_cast<std::size_t>(t)], [](long i) { return i % 3 == 0; });
+    parallel::in_team(1, false, [&](const parallel::Team& team) { sizes[static_cast<std::size_t>(t)] = team.size(); });
+  }
+  for (int t = 0; t < omp_get_max_threads() && t < 2; ++t) {
+    if (got[static_cast<std::size_t>(t)].empty()) continue;  // the region ran on fewer threads
+    EXPECT_EQ(got[static_cast<std::size_t>(t)], expected) << t;
+    EXPECT_EQ(sizes[static_cast<std::size_t>(t)], 1) << t;
+  }
+}
+
 TEST(Parallel, StealingVisitsEveryIndexOnce) {
   const long n = 10007;
   for (int threads : {1, 2, 3, 4}) {

@@ -53,6 +53,51 @@ T count(long n, int threads, F&& f) {
   return total;
 }
 
+// A barrier of the current team, and none in a team of one thread: there libgomp's barrier still
+// makes a futex system call, about 16 a step in the loops that run on one thread below
+// light_loop_threshold or pair_loop_threshold (7 % of a one-thread run of the default case, in the
+// kernel). Every thread of a team takes the same branch.
+inline void barrier() {
+  if (omp_get_num_threads() > 1) {
+#pragma omp barrier
+  }
+}
+
+// The threads of one parallel region, for work in several phases separated by barriers
+// (see in_team). Its members must be reached by every thread of the team.
+class Team {
+ public:
+  [[nodiscard]] int index() const { return omp_get_thread_num(); }
+  [[nodiscard]] int size() const { return omp_get_num_threads(); }
+  void barrier() const { parallel::barrier(); }
+  // g() on one thread, the others waiting at its end.
+  template <class G>
+  void single(G&& g) const {
+    if (size() == 1) {
+      g();
+      return;
+    }
+#pragma omp single
+    g();
+  }
+};
+
+// f(team) on `threads` threads (one when `parallel` is false). On one thread, and outside any
+// parallel region, it is called directly: a region of one thread still ends in a libgomp barrier,
+// with a futex system call.
+template <class F>
+void in_team(int threads, bool parallel, F&& f) {
+  if ((!parallel || threads <= 1) && !omp_in_parallel()) {
+    f(Team{});
+    return;
+  }
+#pragma omp parallel num_threads(threads) if (parallel)
+  {
+    const Team team;
+    f(team);
+  }
+}
+
 // before[i] = how many k < i have f(k), for i in [0, n] (before is resized to n + 1): each thread
 // counts its contiguous share, then writes its share from the counts of the shares before it. A
 // pass on one thread would bring every particle's cache line to that thread's core, for the other
@@ -62,14 +107,13 @@ void prefix_count(long n, int threads, std::vector<std::uint32_t>& before, F&& f
   before.resize(static_cast<std::size_t>(n) + 1);
   const int teams = n >= light_loop_threshold ? std::max(1, threads) : 1;
   std::vector<std::uint32_t> shares(static_cast<std::size_t>(teams) + 1, 0);
-#pragma omp parallel num_threads(teams) if (teams > 1)
-  {
-    const long t = omp_get_thread_num(), size = omp_get_num_threads();
+  in_team(teams, teams > 1, [&](const Team& team) {
+    const long t = team.index(), size = team.size();
     const long begin = n * t / size, end = n * (t + 1) / size;
     std::uint32_t count = 0;
     for (long i = begin; i < end; ++i) count += f(i) ? 1u : 0u;
     shares[static_cast<std::size_t>(t) + 1] = count;
-#pragma omp barrier
+    team.barrier();
     std::uint32_t running = 0;
     for (long u = 0; u <= t; ++u) running += shares[static_cast<std::size_t>(u)];
     for (long i = begin; i < end; ++i) {
@@ -77,7 +121,7 @@ void prefix_count(long n, int threads, std::vector<std::uint32_t>& before, F&& f
       running += f(i) ? 1u : 0u;
     }
     if (t == size - 1) before[static_cast<std::size_t>(n)] = running;
-  }
+  });
 }
 
 // Work shared out in contiguous runs, with stealing: each thread takes the items of its own run from
@@ -135,36 +179,9 @@ void for_each_dynamic(long n, int threads, long chunk, F&& f) {
   {
     const int t = omp_get_thread_num(), size = omp_get_num_threads();
     runs.set(t, chunks * t / size, chunks * (t + 1) / size - 1);
-#pragma omp barrier
+    barrier();
     for (long c = runs.next(t, 1); c >= 0; c = runs.next(t, 1))
       for (long i = c * chunk, end = std::min(n, (c + 1) * chunk); i < end; ++i) f(i);
-  }
-}
-
-// The threads of one parallel region, for work in several phases separated by barriers
-// (see in_team). Its members must be reached by every thread of the team.
-class Team {
- public:
-  [[nodiscard]] int index() const { return omp_get_thread_num(); }
-  [[nodiscard]] int size() const { return omp_get_num_threads(); }
-  void barrier() const {
-#pragma omp barrier
-  }
-  // g() on one thread, the others waiting at its end.
-  template <class G>
-  void single(G&& g) const {
-#pragma omp single
-    g();
-  }
-};
-
-// f(team) on `threads` threads (one when `parallel` is false).
-template <class F>
-void in_team(int threads, bool parallel, F&& f) {
-#pragma omp parallel num_threads(threads) if (parallel)
-  {
-    const Team team;
-    f(team);
   }
 }
 

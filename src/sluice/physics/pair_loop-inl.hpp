@@ -221,16 +221,14 @@ HWY_INLINE void for_each_pair(const Pair& pair, const CellGrid<Dim>& grid, const
     for (double* o : out) o[i] = 0.0;
   for (long parity = 0; parity < 2; ++parity)
     runs[parity].set(t, band_begin + ((band_begin + parity) & 1), band_end - 1 - ((band_end - 1 + parity) & 1));
-#pragma omp barrier
+  parallel::barrier();
   CellBlock<Dim, Pair::kOutputs, R> block;
   // Each thread's extremes, combined at the end (max and min do not depend on the order; clang
   // rejects an omp reduction on reference parameters in an orphaned loop). Every thread reads the
   // shared ones before the loops' barriers and writes them after.
   double speed2 = speed2_max, r2 = r2_min;
   for (long parity = 0; parity < 2; ++parity) {
-    if (parity == 1) {
-#pragma omp barrier
-    }
+    if (parity == 1) parallel::barrier();
     for (long band = runs[parity].next(t, 2); band >= 0; band = runs[parity].next(t, 2)) {
       const auto [first_cell, last_cell] = grid.band_cells(static_cast<std::size_t>(band));
       for (std::uint32_t cell = first_cell; cell < last_cell; ++cell) {
@@ -259,7 +257,7 @@ HWY_INLINE void for_each_pair(const Pair& pair, const CellGrid<Dim>& grid, const
       }
     }
   }
-#pragma omp barrier
+  parallel::barrier();
 #pragma omp critical(sluice_pair_extremes)
   {
     speed2_max = std::max(speed2_max, speed2);
@@ -283,8 +281,14 @@ HWY_NOINLINE void team_body(const Body& body) {
   body();
 }
 
+// On one thread, and outside any parallel region, body() is called directly: a parallel region of
+// one thread still ends in a libgomp barrier, with a futex system call (parallel::barrier).
 template <class Body>
 void in_parallel(int threads, const Body& body) {
+  if (threads <= 1 && !omp_in_parallel()) {
+    team_body(body);
+    return;
+  }
 #pragma omp parallel num_threads(threads)
   team_body(body);
 }
@@ -382,7 +386,7 @@ void shepard_loop(Particles<Dim>& p, const CellGrid<Dim>& grid, double h, double
   in_parallel(threads, [&] {
     const int t = omp_get_thread_num(), team = omp_get_num_threads();
     runs.set(t, chunks * t / team, chunks * (t + 1) / team - 1);
-#pragma omp barrier
+    parallel::barrier();
     for (long c = runs.next(t, 1); c >= 0; c = runs.next(t, 1))
     for (long i = c * chunk, end = std::min(n, (c + 1) * chunk); i < end; ++i) {
       if (!p.is_fluid(static_cast<std::size_t>(i)) || (selected && (*selected)[i] == 0)) {
