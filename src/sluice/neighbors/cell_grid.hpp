@@ -316,8 +316,11 @@ class CellGrid {
     while (axis_[k] != d) ++k;
     return k;
   }
+  // floor((x - lower) / cell size), clamped to [0, count - 1]: clamped first, the conversion's
+  // truncation is the floor (the values are then at least 0), with no floor call (the baseline x86-64
+  // has no rounding instruction, and GCC emulates it in ten).
   [[nodiscard]] int grid_coordinate(double x, int k) const {
-    const double c = std::floor((x - lower_[k]) * inv_cell_size_);
+    const double c = (x - lower_[k]) * inv_cell_size_;
     return static_cast<int>(std::clamp(c, 0.0, static_cast<double>(count_[k] - 1)));
   }
 
