@@ -211,6 +211,21 @@ TEST_F(Cli, ThreadsMustBePositive) {
   expect_only({});
 }
 
+// --simd runs the pair loop on another instruction set this CPU runs (the last `sluice --version`
+// lists, the portable one), and the run summary says which; an unknown one is refused, naming those.
+TEST_F(Cli, SimdChoosesThePairLoopsInstructionSet) {
+  const Result version = sluice({"--version"});
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(version.out, m, std::regex(R"(this CPU runs ([\w, ]+)\))"))) << version.out;
+  const std::string list = m[1];
+  const std::string last = list.substr(list.rfind(' ') + 1);
+  const Result r = sluice(with_tiny({"run", "--simd", last, "-o", "o"}));
+  EXPECT_EQ(r.status, 0) << r.err;
+  expect_contains(r.out, {"pair loop   " + last + " "});
+  expect_bad_input(sluice(with_tiny({"run", "--simd", "avx9000", "-o", "p"})),
+                   {"--simd", "unknown or unsupported SIMD target 'avx9000'", list});
+}
+
 TEST_F(Cli, RestartTakesNoCase) {
   expect_bad_input(sluice({"run", "dam_break", "--restart", "x.bin", "-o", "o"}), {"--restart"});
   expect_only({});

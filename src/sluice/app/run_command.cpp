@@ -18,6 +18,7 @@
 #include "sluice/case/overrides.hpp"
 #include "sluice/io/atomic_file.hpp"
 #include "sluice/io/run.hpp"
+#include "sluice/physics/simd_target.hpp"
 
 namespace fs = std::filesystem;
 
@@ -34,7 +35,7 @@ extern "C" void on_signal(int signal) {
 }
 
 struct RunArgs {
-  std::string case_arg, output, restart, render_field;
+  std::string case_arg, output, restart, render_field, simd;
   std::vector<std::string> sets;
   int threads = 0;
   bool quiet = false;
@@ -42,6 +43,13 @@ struct RunArgs {
 
 int run(const RunArgs& a) {
   if (!a.render_field.empty()) check_render_field(a.render_field);
+  if (!a.simd.empty()) {
+    try {
+      use_simd_target(a.simd);
+    } catch (const std::invalid_argument& e) {
+      throw BadInput(fmt::format("--simd: {}", e.what()));
+    }
+  }
   Case c;
   RunOptions options;
   options.comm = world;
@@ -109,6 +117,9 @@ Command add_run_command(CLI::App& app) {
                   "Continue from a checkpoint file (e.g. out/dam_break/checkpoint.bin); with it, --set may only "
                   "change time.end");
   cmd->add_flag("-q,--quiet", args->quiet, "No progress line");
+  cmd->add_option("--simd", args->simd,
+                  "Instruction set of the pair loop: auto (the best this CPU runs, the default) or one that "
+                  "`sluice --version` lists, e.g. AVX2 on an AVX-512 machine, to compare them");
   cmd->add_option("--render", args->render_field,
                   "At the end, draw an animated GIF of this field into the output directory (vx, vy, speed, "
                   "pressure, density; see `sluice render`)");
