@@ -3,6 +3,7 @@
 // and clear errors for damaged input and unwritable output.
 // Our files are also read back by real numpy and meshio in the Python tests (test_outputs.py).
 #include <gtest/gtest.h>
+#include <sys/mman.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -369,6 +370,41 @@ class CheckpointFile : public ::testing::Test {
   std::unique_ptr<Simulation> sim_;
   std::string bytes_;
 };
+
+// zlib's crc32 takes at most 4 GiB - 1 bytes a call. The checkpoint reader once passed it the whole
+// file's length cast to 32 bits, so a checkpoint of 4 GiB or more was checked over its length modulo
+// 4 GiB and refused as damaged. The bytes here are an anonymous mapping of 4 GiB + 8 bytes: zeros
+// from the kernel's zero page, no memory but the last page, where the CRC goes (and the damage). The expected CRC is
+// built independently of crc32_of, by zlib's crc32_combine64 doubling the CRC of 1 MiB of zeros.
+TEST(Checkpoint, ChecksumCoversFilesOf4GiBAndMore) {
+  const std::size_t payload = (std::size_t{4} << 30) + 4, n = payload + 4;
+  // Read-only and populated in one call (the kernel's zero page throughout: no memory, and no million
+  // page faults); then the last page writable, for the CRC.
+  void* map = mmap(nullptr, n, PROT_READ, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE | MAP_POPULATE, -1, 0);
+  ASSERT_NE(map, MAP_FAILED);
+  const auto page = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
+  const std::size_t last_page = (n - 4) / page * page;
+  ASSERT_EQ(mprotect(static_cast<char*>(map) + last_page, n - last_page, PROT_READ | PROT_WRITE), 0);
+  char* bytes = static_cast<char*>(map);
+  std::size_t length = std::size_t{1} << 20;
+  auto expected = static_cast<std::uint32_t>(crc32(0L, reinterpret_cast<const Bytef*>(bytes), static_cast<uInt>(length)));
+  while (2 * length <= payload) {
+    expected = static_cast<std::uint32_t>(crc32_combine64(expected, expected, static_cast<z_off64_t>(length)));
+    length *= 2;
+  }
+  const auto tail = static_cast<std::uint32_t>(
+      crc32(0L, reinterpret_cast<const Bytef*>(bytes), static_cast<uInt>(payload - length)));
+  expected = static_cast<std::uint32_t>(crc32_combine64(expected, tail, static_cast<z_off64_t>(payload - length)));
+  const std::string_view all(bytes, n);
+  EXPECT_EQ(crc32_of(0, all.substr(0, payload)), expected);
+  std::memcpy(bytes + payload, &expected, sizeof expected);
+  EXPECT_TRUE(checkpoint_checksum_matches(all));
+  // The CRC of the length modulo 4 GiB, what the reader compared before, is another number.
+  EXPECT_NE(crc32_of(0, all.substr(0, payload - (std::size_t{4} << 30))), expected);
+  bytes[n - 5] = 1;  // damaged
+  EXPECT_FALSE(checkpoint_checksum_matches(all));
+  munmap(map, n);
+}
 
 TEST(Checkpoint, IsStreamedFromTheParticlesArrays) {
   // The particles' arrays go to the file as they are, with a running checksum: never the whole

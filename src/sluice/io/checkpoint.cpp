@@ -1,7 +1,6 @@
 #include "sluice/io/checkpoint.hpp"
 
 #include <fmt/format.h>
-#include <zlib.h>
 
 #include <algorithm>
 #include <cmath>
@@ -26,10 +25,7 @@ struct SinkWriter {
   const ByteSink& out;
   std::uint32_t crc = 0;
   void append(const char* data, std::size_t n) {
-    constexpr std::size_t chunk = std::size_t{1} << 30;  // zlib takes at most 4 GiB - 1 at a time
-    for (std::size_t at = 0; at < n; at += chunk)
-      crc = static_cast<std::uint32_t>(
-          crc32(crc, reinterpret_cast<const Bytef*>(data + at), static_cast<uInt>(std::min(chunk, n - at))));
+    crc = crc32_of(crc, std::string_view(data, n));
     out(std::string_view(data, n));
   }
   SinkWriter& operator+=(std::string_view s) {
@@ -211,6 +207,13 @@ std::string checkpoint_bytes(const Simulation& sim, double wall_seconds) {
   return out;
 }
 
+bool checkpoint_checksum_matches(std::string_view bytes) {
+  std::uint32_t stored = 0;
+  if (bytes.size() < sizeof stored) return false;
+  std::memcpy(&stored, bytes.data() + bytes.size() - sizeof stored, sizeof stored);
+  return crc32_of(0, bytes.substr(0, bytes.size() - sizeof stored)) == stored;
+}
+
 Checkpoint parse_checkpoint(const std::string& bytes, const std::string& source) {
   Reader header(bytes, bytes.size(), source);
   if (bytes.size() < sizeof magic + 12 || std::memcmp(bytes.data(), magic, sizeof magic) != 0)
@@ -223,13 +226,9 @@ Checkpoint parse_checkpoint(const std::string& bytes, const std::string& source)
   if (version < 2 || version > checkpoint_format_version)
     header.fail(fmt::format("format version {}, this sluice reads versions 2 to {}", version,
                             checkpoint_format_version));
-  std::uint32_t stored_crc = 0;
-  std::memcpy(&stored_crc, bytes.data() + bytes.size() - sizeof stored_crc, sizeof stored_crc);
-  const auto crc = static_cast<std::uint32_t>(
-      crc32(0L, reinterpret_cast<const Bytef*>(bytes.data()), static_cast<uInt>(bytes.size() - sizeof stored_crc)));
-  if (crc != stored_crc) header.fail("checksum mismatch (the file is damaged or incomplete)");
+  if (!checkpoint_checksum_matches(bytes)) header.fail("checksum mismatch (the file is damaged or incomplete)");
 
-  Reader r(bytes, bytes.size() - sizeof stored_crc, source);
+  Reader r(bytes, bytes.size() - sizeof(std::uint32_t), source);
   r.get_string(sizeof magic);
   r.get<std::uint32_t>();
   const auto dimension = r.get<std::uint32_t>();

@@ -18,6 +18,7 @@
 
 #include <filesystem>
 #include <string>
+#include <string_view>
 
 #include "sluice/case/case.hpp"
 #include "sluice/io/npz.hpp"  // ByteSink
@@ -41,6 +42,9 @@ struct Checkpoint {
 void write_checkpoint_bytes(const Simulation& sim, double wall_seconds, const ByteSink& out);
 std::string checkpoint_bytes(const Simulation& sim, double wall_seconds);
 Checkpoint parse_checkpoint(const std::string& bytes, const std::string& source);
+// Whether a checkpoint's bytes end in the CRC-32 of all that comes before them (parse_checkpoint's
+// first check), for files of any size.
+bool checkpoint_checksum_matches(std::string_view bytes);
 void write_checkpoint(const std::filesystem::path& path, const Simulation& sim, double wall_seconds);
 Checkpoint read_checkpoint(const std::filesystem::path& path);
 

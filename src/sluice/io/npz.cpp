@@ -14,6 +14,15 @@ namespace sluice {
 
 static_assert(std::endian::native == std::endian::little, "sluice writes little-endian files");
 
+std::uint32_t crc32_of(std::uint32_t crc, std::string_view bytes) {
+  constexpr std::size_t chunk = std::size_t{1} << 30;
+  for (std::size_t at = 0; at < bytes.size(); at += chunk) {
+    const std::size_t n = std::min(chunk, bytes.size() - at);
+    crc = static_cast<std::uint32_t>(crc32(crc, reinterpret_cast<const Bytef*>(bytes.data() + at), static_cast<uInt>(n)));
+  }
+  return crc;
+}
+
 template <>
 std::string npy_dtype<double>() { return "<f8"; }
 template <>
@@ -92,16 +101,6 @@ std::string npy_header(const std::string& dtype, const std::vector<std::size_t>&
   put<std::uint16_t>(out, static_cast<std::uint16_t>(header.size()));
   out += header;
   return out;
-}
-
-std::uint32_t crc_of(std::uint32_t crc, std::string_view bytes) {
-  // zlib takes at most 4 GiB - 1 at a time.
-  constexpr std::size_t chunk = std::size_t{1} << 30;
-  for (std::size_t at = 0; at < bytes.size(); at += chunk) {
-    const std::size_t n = std::min(chunk, bytes.size() - at);
-    crc = static_cast<std::uint32_t>(crc32(crc, reinterpret_cast<const Bytef*>(bytes.data() + at), static_cast<uInt>(n)));
-  }
-  return crc;
 }
 
 NpyArray parse_npy(const std::string& b, const std::string& name) {
@@ -185,7 +184,7 @@ void write_npz(const std::vector<std::pair<std::string, NpyView>>& arrays, const
     const std::uint64_t data_size = header.size() + array.bytes.size();
     if (written > 0xFFFFFFFFu || data_size > 0xFFFFFFFFu)
       throw FormatError("npz entry larger than 4 GiB (zip64 is not supported)");
-    const std::uint32_t crc = crc_of(crc_of(0, header), array.bytes);
+    const std::uint32_t crc = crc32_of(crc32_of(0, header), array.bytes);
     const auto offset = static_cast<std::uint32_t>(written);
     const auto size = static_cast<std::uint32_t>(data_size);
     std::string local;
@@ -280,8 +279,7 @@ std::map<std::string, NpyArray> parse_npz(const std::string& bytes) {
     const std::size_t data_at = local + 30 + get<std::uint16_t>(bytes, local + 26) + get<std::uint16_t>(bytes, local + 28);
     if (data_at + usize > bytes.size()) throw FormatError(fmt::format("{}: truncated data", name));
     const std::string data = bytes.substr(data_at, usize);
-    const auto actual = static_cast<std::uint32_t>(
-        crc32(0L, reinterpret_cast<const Bytef*>(data.data()), static_cast<uInt>(data.size())));
+    const std::uint32_t actual = crc32_of(0, data);
     if (actual != crc) throw FormatError(fmt::format("{}: checksum mismatch (file damaged)", name));
     std::string key = name;
     if (key.size() > 4 && key.ends_with(".npy")) key.resize(key.size() - 4);

@@ -42,6 +42,11 @@ struct FormatError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The CRC-32 (zip's, zlib's crc32) of `bytes` continued from `crc` (0 to start), for any length:
+// zlib takes at most 4 GiB - 1 bytes a call, so longer inputs go in pieces. The .npz entries and the
+// checkpoints are checked with it, written and read.
+std::uint32_t crc32_of(std::uint32_t crc, std::string_view bytes);
+
 // Where a writer puts its bytes, in order: a file being written (AtomicFile::write) or a string.
 using ByteSink = std::function<void(std::string_view)>;
 
