@@ -373,18 +373,25 @@ class CheckpointFile : public ::testing::Test {
 
 // zlib's crc32 takes at most 4 GiB - 1 bytes a call. The checkpoint reader once passed it the whole
 // file's length cast to 32 bits, so a checkpoint of 4 GiB or more was checked over its length modulo
-// 4 GiB and refused as damaged. The bytes here are an anonymous mapping of 4 GiB + 8 bytes: zeros
-// from the kernel's zero page, no memory but the last page, where the CRC goes (and the damage). The expected CRC is
-// built independently of crc32_of, by zlib's crc32_combine64 doubling the CRC of 1 MiB of zeros.
+// 4 GiB and refused as damaged. The bytes here are 4 GiB + 8: 64 MiB of zeros in one memory file,
+// mapped 64 times one after the other (64 MiB of memory in all), then one private page, where the
+// CRC goes (and the damage). The expected CRC is built independently of crc32_of, by zlib's
+// crc32_combine64 doubling the CRC of 1 MiB of zeros.
 TEST(Checkpoint, ChecksumCoversFilesOf4GiBAndMore) {
-  const std::size_t payload = (std::size_t{4} << 30) + 4, n = payload + 4;
-  // Read-only and populated in one call (the kernel's zero page throughout: no memory, and no million
-  // page faults); then the last page writable, for the CRC.
-  void* map = mmap(nullptr, n, PROT_READ, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE | MAP_POPULATE, -1, 0);
-  ASSERT_NE(map, MAP_FAILED);
+  const std::size_t piece = std::size_t{64} << 20, pieces = 64, zeros = piece * pieces;
+  const std::size_t payload = zeros + 4, n = payload + 4;
   const auto page = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
-  const std::size_t last_page = (n - 4) / page * page;
-  ASSERT_EQ(mprotect(static_cast<char*>(map) + last_page, n - last_page, PROT_READ | PROT_WRITE), 0);
+  void* map = mmap(nullptr, zeros + page, PROT_NONE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
+  ASSERT_NE(map, MAP_FAILED);
+  const int fd = memfd_create("zeros", 0);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(ftruncate(fd, static_cast<off_t>(piece)), 0);
+  for (std::size_t k = 0; k < pieces; ++k)
+    ASSERT_NE(mmap(static_cast<char*>(map) + k * piece, piece, PROT_READ, MAP_SHARED | MAP_FIXED, fd, 0), MAP_FAILED);
+  ASSERT_NE(mmap(static_cast<char*>(map) + zeros, page, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_FIXED,
+                 -1, 0),
+            MAP_FAILED);
+  close(fd);
   char* bytes = static_cast<char*>(map);
   std::size_t length = std::size_t{1} << 20;
   auto expected = static_cast<std::uint32_t>(crc32(0L, reinterpret_cast<const Bytef*>(bytes), static_cast<uInt>(length)));
@@ -403,7 +410,7 @@ TEST(Checkpoint, ChecksumCoversFilesOf4GiBAndMore) {
   EXPECT_NE(crc32_of(0, all.substr(0, payload - (std::size_t{4} << 30))), expected);
   bytes[n - 5] = 1;  // damaged
   EXPECT_FALSE(checkpoint_checksum_matches(all));
-  munmap(map, n);
+  munmap(map, zeros + page);
 }
 
 TEST(Checkpoint, IsStreamedFromTheParticlesArrays) {
