@@ -280,7 +280,7 @@ namespace {
 
 // The fluid sums at a point (physics/fluid_sums.hpp, mDBC's ghost nodes) against their definition
 // summed over every particle: points inside the block, at its edges, under its floor among the wall
-// particles, and beyond it with no fluid in reach.
+// particles, and beyond it with no fluid in reach; and the test for a fluid particle within a radius.
 template <int Dim, class Kernel>
 void compare_fluid_sums_with_brute_force() {
   const double dx = 0.02, h = 1.3 * dx, mass = 1000.0 * std::pow(dx, Dim);
@@ -294,7 +294,7 @@ void compare_fluid_sums_with_brute_force() {
   index.build(p, 1);
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> across(-0.08, 0.3);
-  int with_fluid = 0, without = 0;
+  int with_fluid = 0, without = 0, with_close = 0;
   for (int k = 0; k < 200; ++k) {
     Vec<Dim> x{};
     for (int d = 0; d < Dim; ++d) x[d] = across(rng);
@@ -320,6 +320,17 @@ void compare_fluid_sums_with_brute_force() {
       densest = std::max(densest, p.density[j]);
     }
     (neighbours > 0 ? with_fluid : without) += 1;
+    // The test for fluid in reach (mDBC's wall particles), at the support and at 0.6 dx.
+    const double support2 = Kernel::support * Kernel::support * h * h, close2 = 0.36 * dx * dx;
+    EXPECT_EQ(fluid_within<Dim>(p, grid, index, x, support2), neighbours > 0) << "point " << k;
+    bool close = false;
+    for (std::size_t j = 0; j < p.size(); ++j) {
+      double r2 = 0.0;
+      for (int d = 0; d < Dim; ++d) r2 += (p.position[d][j] - x[d]) * (p.position[d][j] - x[d]);
+      close = close || (p.kind[j] == Kind::fluid && r2 < close2);
+    }
+    EXPECT_EQ(fluid_within<Dim>(p, grid, index, x, close2), close) << "point " << k;
+    with_close += close;
     EXPECT_EQ(got.neighbours, neighbours) << "point " << k;
     EXPECT_EQ(got.densest, densest) << "point " << k;
     const double scale = 1000.0 * std::max(1.0, fit.weight());
@@ -331,6 +342,8 @@ void compare_fluid_sums_with_brute_force() {
   }
   EXPECT_GT(with_fluid, 30);
   EXPECT_GT(without, 5);
+  EXPECT_GT(with_close, 5);
+  EXPECT_LT(with_close, with_fluid);
 }
 
 }  // namespace

@@ -1,8 +1,9 @@
 // Adami, Hu & Adams (2012) wall pressure extrapolation (physics/wall_boundary.hpp): a wall under still
 // water with hydrostatic pressure gets the hydrostatic pressure at its own position; negative values are
 // clamped; a wall particle with no fluid around it is at p = 0, rho = rho0; the EOS inversion round-trips.
-// The mDBC walls (physics/mdbc.hpp) on the same scenes: the hydrostatic pressure at every layer from the
-// mirror images, no slip and free slip, the rho0 floor and the cap on the extrapolation.
+// The mDBC walls (physics/mdbc.hpp) on the same scenes: the hydrostatic pressure at every layer the water
+// reaches from the mirror images (rho0 beyond), no slip and free slip, the rho0 floor and the cap on
+// the extrapolation.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -160,19 +161,30 @@ MdbcWalls mdbc_of(const Scene& s, WallSlip slip) { return MdbcWalls::of(floor_gh
 
 }  // namespace
 
-TEST(Mdbc, EveryWallLayerUnderStillWaterGetsTheHydrostaticPressureAtItsPosition) {
+TEST(Mdbc, EveryWallLayerTheWaterReachesGetsTheHydrostaticPressureAtItsPosition) {
+  // The support is 2h = 2.6 dx: the water's lowest row, at dx/2, reaches the layers at -dx/2 and
+  // -3dx/2 (1 and 2 dx away) but not the one at -5dx/2 (3 dx away), which takes part in no pair with
+  // the water and holds rho0 and rest, as a dry wall does.
   Scene s = make_scene(hydrostatic_density, 3, false);
+  for (std::size_t i = 0; i < s.p.size(); ++i)
+    if (!s.p.is_fluid(i)) s.p.density[i] = 1020.0, s.p.velocity[0][i] = 1.0;
   mdbc_of(s, WallSlip::free_slip).before_rates(s.p, s.grid, kernel, eos, {0.0, -g}, 1);
-  int checked = 0;
+  int reached = 0, beyond = 0;
   for (std::size_t i = 0; i < s.p.size(); ++i) {
     const double x = s.p.position[0][i], y = s.p.position[1][i];
     if (s.p.is_fluid(i) || x < 0.2 || x > 0.8) continue;
+    EXPECT_NEAR(s.p.velocity[0][i], 0.0, 1e-12);
+    if (y < -2.0 * dx) {
+      EXPECT_EQ(s.p.density[i], rho0) << "wall particle at (" << x << ", " << y << ")";
+      ++beyond;
+      continue;
+    }
     const double expected = rho0 * g * (depth - y);
     EXPECT_NEAR(eos.pressure(s.p.density[i]), expected, 0.001 * expected) << "wall particle at (" << x << ", " << y << ")";
-    EXPECT_NEAR(s.p.velocity[0][i], 0.0, 1e-12);
-    ++checked;
+    ++reached;
   }
-  EXPECT_EQ(checked, 3 * 30);  // all three layers, where Adami's reaches two
+  EXPECT_EQ(reached, 2 * 30);
+  EXPECT_EQ(beyond, 30);
 }
 
 TEST(Mdbc, NoSlipReversesTheWaterVelocityFreeSlipOnlyItsNormalPart) {
@@ -183,6 +195,11 @@ TEST(Mdbc, NoSlipReversesTheWaterVelocityFreeSlipOnlyItsNormalPart) {
     mdbc_of(s, slip).before_rates(s.p, s.grid, kernel, eos, {0.0, -g}, 1);
     for (std::size_t i = 0; i < s.p.size(); ++i) {
       if (s.p.is_fluid(i) || s.p.position[0][i] < 0.2 || s.p.position[0][i] > 0.8) continue;
+      if (s.p.position[1][i] < -2.0 * dx) {  // beyond the water's reach: at rest
+        EXPECT_EQ(s.p.velocity[0][i], 0.0);
+        EXPECT_EQ(s.p.velocity[1][i], 0.0);
+        continue;
+      }
       EXPECT_NEAR(s.p.velocity[0][i], slip == WallSlip::no_slip ? -1.0 : 1.0, 1e-12);
       EXPECT_NEAR(s.p.velocity[1][i], 0.5, 1e-12);  // the normal part mirrored in both
     }
@@ -214,8 +231,8 @@ TEST(Mdbc, TheExtrapolationIsCappedAtTheDensestWaterPlusTheHydrostaticRise) {
     const double densest = 1100.0 - 1000.0 * 0.5 * dx;
     const double cap = densest + rho0 * g * (2.0 * -y) / (eos.sound_speed * eos.sound_speed);
     EXPECT_LE(s.p.density[i], cap + 1e-9);
-    if (y < -2.0 * dx) {
-      EXPECT_NEAR(s.p.density[i], cap, 1e-9);  // the fit would give 1100 + 1000 * 2.5 dx = 1150
+    if (y < -dx && y > -2.0 * dx) {
+      EXPECT_NEAR(s.p.density[i], cap, 1e-9);  // the fit would give 1100 + 1000 * 1.5 dx = 1130
       ++capped;
     }
   }

@@ -52,6 +52,14 @@ template <int Dim>
 FluidSums<Dim> fluid_sums_at(const Particles<Dim>& p, const CellGrid<Dim>& grid, const AnyKernel<Dim>& kernel,
                              double mass, const FluidIndex& fluid, const Vec<Dim>& point);
 
+// Whether a fluid particle j lies at |x_j - point|^2 < radius2 (radius2 at most the square of the
+// grid's cell size), with the distance computed as the pair loop computes it.
+template <int Dim>
+bool fluid_within(const Particles<Dim>& p, const CellGrid<Dim>& grid, const FluidIndex& fluid, const Vec<Dim>& point,
+                  double radius2);
+
+extern template bool fluid_within<2>(const Particles<2>&, const CellGrid<2>&, const FluidIndex&, const Vec<2>&, double);
+extern template bool fluid_within<3>(const Particles<3>&, const CellGrid<3>&, const FluidIndex&, const Vec<3>&, double);
 extern template FluidSums<2> fluid_sums_at<2>(const Particles<2>&, const CellGrid<2>&, const AnyKernel<2>&, double,
                                               const FluidIndex&, const Vec<2>&);
 extern template FluidSums<3> fluid_sums_at<3>(const Particles<3>&, const CellGrid<3>&, const AnyKernel<3>&, double,

@@ -13,8 +13,9 @@
 // Where the fit is ill-posed (too few fluid neighbours, or all in a line) or the ghost is not well
 // inside water, the Shepard density at the ghost is used, carried to the wall particle by the
 // hydrostatic pressure difference rho g . (x_w - x_g); rho_w = rho0 where the ghost has no fluid
-// around it. rho_w is held at rho0 or
-// above, so that a wall never pulls water onto itself (English et al. likewise).
+// around it, or where no fluid particle lies within the wall particle's own support (then nothing
+// reads it). rho_w is held at rho0 or above, so that a wall never pulls water onto itself (English et
+// al. likewise).
 //
 // The wall velocity enters the viscous terms only (the continuity equation sees the walls at rest;
 // with the mirrored velocity there too, the ghost-fluid way, the obstacle case ran to its end but still
@@ -110,6 +111,8 @@ struct MdbcWalls {
     const AnyKernel<Dim> any_kernel(kernel);
     FluidIndex fluid;
     fluid.build(p, threads);
+    // The pair loop's support, as it computes it (physics/pair_loop-inl.hpp, rate_loop).
+    const double reach2 = Kernel::support * Kernel::support * kernel.h * kernel.h;
     // Each iteration reads fluid particles and writes one wall particle: no races.
     parallel::for_each_dynamic(static_cast<long>(p.size()), threads, 256, [&](long i) {
       const auto w = static_cast<std::size_t>(i);
@@ -118,7 +121,11 @@ struct MdbcWalls {
       for (int d = 0; d < Dim; ++d) x[d] = p.position[d][w];
       GhostReading<Dim> r;
       Vec<Dim> v{};
-      if (g.of(p.id[w])) {
+      // A wall particle with no fluid particle within its own support takes part in no pair with water
+      // in this evaluation (nor in the Shepard filter's or shifting's sums): its ghost is not read, and
+      // it holds rho0 and rest, as a dry wall does. Under water that is the deepest layer, whose ghost
+      // node lies several spacings into the water, its sums as costly as any.
+      if (g.of(p.id[w]) && fluid_within<Dim>(p, grid, fluid, x, reach2)) {
         const Vec<Dim>& ghost = g.node[p.id[w]];
         r = read_ghost<Dim>(fluid_sums_at<Dim>(p, grid, any_kernel, mass, fluid, ghost), kernel.h, eos, gravity, ghost, x);
         if (r.found && slip == WallSlip::no_slip) v = -1.0 * r.velocity;

@@ -418,6 +418,19 @@ void shepard_loop(Particles<Dim>& p, const CellGrid<Dim>& grid, double h, double
   p.density.swap(out);
 }
 
+// r = x_j - point for the candidates j, ..., j + lanes - 1 (the lanes past them at the point itself,
+// r = 0) from the coordinate arrays of `size` values, and |r|^2 summed as the pair loop sums it.
+template <int Dim>
+HWY_INLINE hn::Vec<simd::D> separations(const std::array<const double*, Dim>& x, std::uint32_t j, std::size_t lanes,
+                                        std::size_t size, const Vec<Dim>& point, std::array<Pack, Dim>& r) {
+  auto r2 = hn::Zero(simd::D());
+  for (int c = 0; c < Dim; ++c) {
+    r[c] = simd::load_within(x[c], j, lanes, size, point[c]) - Pack(point[c]);
+    r2 = hn::MulAdd(r[c].v, r[c].v, r2);
+  }
+  return r2;
+}
+
 // The sums over the fluid around `point` (physics/fluid_sums.hpp): the candidates of the cells next
 // to the point's, a vector at a time (ranges without a fluid particle passed
 // over), the lanes outside the support, past a range's end or of wall particles weighing nothing.
@@ -454,11 +467,7 @@ FluidSums<Dim> fluid_sums_loop(const Particles<Dim>& p, const CellGrid<Dim>& gri
     for (std::uint32_t j = begin; j < end; j += static_cast<std::uint32_t>(N)) {
       const std::size_t lanes = std::min<std::size_t>(N, end - j);
       std::array<Pack, Dim> r;
-      auto r2 = hn::Zero(d);
-      for (int c = 0; c < Dim; ++c) {
-        r[c] = simd::load_within(x[c], j, lanes, size, point[c]) - Pack(point[c]);
-        r2 = hn::MulAdd(r[c].v, r[c].v, r2);
-      }
+      const auto r2 = separations<Dim>(x, j, lanes, size, point, r);
       // The lanes past the range hold the point itself (r = 0) and fluid = 0: they never count.
       const simd::Mask near{hn::And(hn::Lt(r2, support2),
                                     hn::Ne(simd::load_within(fluid, j, lanes, size, 0.0).v, hn::Zero(d)))};
@@ -490,6 +499,35 @@ FluidSums<Dim> fluid_sums_loop(const Particles<Dim>& p, const CellGrid<Dim>& gri
   return s;
 }
 
+// Whether a fluid particle lies closer than sqrt(radius2) to `point` (radius2 at most the square of
+// the grid's cell size): the candidates of the cells around the point's a vector at a time, ranges
+// without a fluid particle passed over, stopping at the first one found.
+template <int Dim>
+bool fluid_within_loop(const Particles<Dim>& p, const CellGrid<Dim>& grid, const FluidIndex& index,
+                       const Vec<Dim>& point, double radius2) {
+  const simd::D d;
+  const std::size_t N = hn::Lanes(d), size = p.size();
+  const auto upper = hn::Set(d, radius2);
+  const double* const fluid = index.fluid.data();
+  const std::uint32_t* const before = index.before.data();
+  std::array<const double*, Dim> x;
+  for (int c = 0; c < Dim; ++c) x[c] = p.position[c].data();
+  const auto ranges = grid.neighbor_ranges(grid.cell_at(point));
+  for (int range = 0; range < ranges.count; ++range) {
+    const auto [begin, end] = ranges.range[range];
+    if (before[end] == before[begin]) continue;
+    for (std::uint32_t j = begin; j < end; j += static_cast<std::uint32_t>(N)) {
+      const std::size_t lanes = std::min<std::size_t>(N, end - j);
+      std::array<Pack, Dim> r;
+      const auto r2 = separations<Dim>(x, j, lanes, size, point, r);
+      // The lanes past the range hold the point itself and fluid = 0: they never count.
+      const auto near = hn::And(hn::Lt(r2, upper), hn::Ne(simd::load_within(fluid, j, lanes, size, 0.0).v, hn::Zero(d)));
+      if (!hn::AllFalse(d, near)) return true;
+    }
+  }
+  return false;
+}
+
 // The loops of one kernel and wall pair traits with pairs in precision R, entered in the table; with
 // R = double, the kernel's Shepard filter, shifting sums and fluid sums too (those are in double
 // precision only).
@@ -504,6 +542,7 @@ void add_rate_loops(DimensionLoops<Dim>& loops) {
     loops.shepard[K] = &shepard_loop<Dim, Kernel>;
     loops.shifting[K] = &shifting_loop<Dim, Kernel>;
     loops.fluid_sums[K] = &fluid_sums_loop<Dim, Kernel>;
+    if constexpr (K == 0) loops.fluid_within = &fluid_within_loop<Dim>;
   }
 }
 

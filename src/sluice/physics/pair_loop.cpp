@@ -135,6 +135,14 @@ FluidSums<Dim> fluid_sums_at(const Particles<Dim>& p, const CellGrid<Dim>& grid,
   return loops().template of<Dim>().fluid_sums[kernel.index()](p, grid, h, mass, fluid, point);
 }
 
+template <int Dim>
+bool fluid_within(const Particles<Dim>& p, const CellGrid<Dim>& grid, const FluidIndex& fluid, const Vec<Dim>& point,
+                  double radius2) {
+  return loops().template of<Dim>().fluid_within(p, grid, fluid, point, radius2);
+}
+
+template bool fluid_within<2>(const Particles<2>&, const CellGrid<2>&, const FluidIndex&, const Vec<2>&, double);
+template bool fluid_within<3>(const Particles<3>&, const CellGrid<3>&, const FluidIndex&, const Vec<3>&, double);
 template FluidSums<2> fluid_sums_at<2>(const Particles<2>&, const CellGrid<2>&, const AnyKernel<2>&, double,
                                        const FluidIndex&, const Vec<2>&);
 template FluidSums<3> fluid_sums_at<3>(const Particles<3>&, const CellGrid<3>&, const AnyKernel<3>&, double,

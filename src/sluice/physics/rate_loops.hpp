@@ -2,7 +2,8 @@
 // a dimension and precision at a time; physics/pair_loop.cpp puts each target's table together and
 // picks the CPU's best): a function per dimension, kernel, wall pair traits, artificial-pressure
 // switch and precision of the pairs, and a Shepard filter, the sums of particle shifting and the fluid
-// sums at a point (mDBC's ghost nodes) per dimension and kernel.
+// sums at a point (mDBC's ghost nodes) per dimension and kernel, and the test for fluid near a point per
+// dimension.
 #pragma once
 
 #include <array>
@@ -34,12 +35,17 @@ using FluidSumsLoop = FluidSums<Dim> (*)(const Particles<Dim>&, const CellGrid<D
                                          const FluidIndex&, const Vec<Dim>& point);
 
 template <int Dim>
+using FluidWithinLoop = bool (*)(const Particles<Dim>&, const CellGrid<Dim>&, const FluidIndex&, const Vec<Dim>& point,
+                                 double radius2);
+
+template <int Dim>
 struct DimensionLoops {
   // [kernel][wall pair traits][with artificial pressure][single-precision pairs]
   RateLoop<Dim> rates[kKernels][kPairWallTraits][2][2];
   ShepardLoop<Dim> shepard[kKernels];
   ShiftingLoop<Dim> shifting[kKernels];
   FluidSumsLoop<Dim> fluid_sums[kKernels];
+  FluidWithinLoop<Dim> fluid_within;
 };
 
 struct RateLoops {
