@@ -280,7 +280,8 @@ namespace {
 
 // The fluid sums at a point (physics/fluid_sums.hpp, mDBC's ghost nodes) against their definition
 // summed over every particle: points inside the block, at its edges, under its floor among the wall
-// particles, and beyond it with no fluid in reach; and the test for a fluid particle within a radius.
+// particles, and beyond it with no fluid in reach; and the tests for a fluid particle within a radius
+// of a point and of each wall particle.
 template <int Dim, class Kernel>
 void compare_fluid_sums_with_brute_force() {
   const double dx = 0.02, h = 1.3 * dx, mass = 1000.0 * std::pow(dx, Dim);
@@ -290,8 +291,11 @@ void compare_fluid_sums_with_brute_force() {
   std::vector<double> scratch;
   grid.bin(p.position);
   p.permute(grid.order(), scratch, false, 1);
-  FluidIndex index;
-  index.build(p, 1);
+  FluidIndex index, unboxed;
+  index.build(p, 2, &grid);
+  unboxed.build(p, 1);
+  ASSERT_EQ(index.box.size(), grid.cell_count() * 2 * Dim);
+  ASSERT_TRUE(unboxed.box.empty());
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> across(-0.08, 0.3);
   int with_fluid = 0, without = 0, with_close = 0;
@@ -320,9 +324,12 @@ void compare_fluid_sums_with_brute_force() {
       densest = std::max(densest, p.density[j]);
     }
     (neighbours > 0 ? with_fluid : without) += 1;
-    // The test for fluid in reach (mDBC's wall particles), at the support and at 0.6 dx.
+    // The test for fluid in reach (mDBC's wall particles), at the support and at 0.6 dx, with the
+    // cells' fluid boxes and without.
     const double support2 = Kernel::support * Kernel::support * h * h, close2 = 0.36 * dx * dx;
     EXPECT_EQ(fluid_within<Dim>(p, grid, index, x, support2), neighbours > 0) << "point " << k;
+    EXPECT_EQ(fluid_within<Dim>(p, grid, unboxed, x, support2), neighbours > 0) << "point " << k;
+    EXPECT_EQ(fluid_within<Dim>(p, grid, unboxed, x, close2), fluid_within<Dim>(p, grid, index, x, close2));
     bool close = false;
     for (std::size_t j = 0; j < p.size(); ++j) {
       double r2 = 0.0;
@@ -344,6 +351,33 @@ void compare_fluid_sums_with_brute_force() {
   EXPECT_GT(without, 5);
   EXPECT_GT(with_close, 5);
   EXPECT_LT(with_close, with_fluid);
+  // Every wall particle's flag (mDBC reads the ghosts of those the water reaches), at the support and
+  // at 0.6 dx, against the brute-force search; the fluid particles' entries are left alone.
+  for (const double radius2 : {Kernel::support * Kernel::support * h * h, 0.36 * dx * dx}) {
+    std::vector<std::uint8_t> reached(p.size(), 7);
+    walls_reached<Dim>(p, grid, index, 0, static_cast<std::uint32_t>(grid.cell_count()), radius2, reached.data());
+    int in_reach = 0, beyond = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      if (p.kind[i] == Kind::fluid) {
+        EXPECT_EQ(reached[i], 7);
+        continue;
+      }
+      bool any = false;
+      for (std::size_t j = 0; j < p.size() && !any; ++j) {
+        double r2 = 0.0;
+        for (int d = 0; d < Dim; ++d) r2 += (p.position[d][j] - p.position[d][i]) * (p.position[d][j] - p.position[d][i]);
+        any = p.kind[j] == Kind::fluid && r2 < radius2;
+      }
+      EXPECT_EQ(reached[i], any ? 1 : 0) << "wall particle " << i;
+      (any ? in_reach : beyond) += 1;
+    }
+    if (radius2 > dx * dx) {
+      EXPECT_GT(in_reach, 10);
+    } else {
+      EXPECT_EQ(in_reach, 0);  // the wall particles stand a spacing off the water
+    }
+    EXPECT_GT(beyond, 10);
+  }
 }
 
 }  // namespace

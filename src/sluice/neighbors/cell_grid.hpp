@@ -150,6 +150,13 @@ class CellGrid {
 
   // The ranges that cover the cells adjacent to cell `c` (including c): one per row of cells.
   [[nodiscard]] NeighborRanges neighbor_ranges(std::uint32_t c) const {
+    NeighborRanges r = neighbor_cells(c);
+    for (int k = 0; k < r.count; ++k) r.range[k] = {cell_start_[r.range[k].first], cell_start_[r.range[k].second]};
+    return r;
+  }
+
+  // The same rows as ranges of cell indices [first, second): the cells adjacent to cell `c`.
+  [[nodiscard]] NeighborRanges neighbor_cells(std::uint32_t c) const {
     std::array<int, Dim> coord{};
     std::uint32_t rest = c;
     for (int d = 0; d < Dim; ++d) {
@@ -159,19 +166,18 @@ class CellGrid {
     const int x_lo = std::max(coord[0] - 1, 0);
     const int x_hi = std::min(coord[0] + 1, count_[0] - 1);
     NeighborRanges r;
+    const auto add = [&](std::size_t row) {
+      r.add(static_cast<std::uint32_t>(row + x_lo), static_cast<std::uint32_t>(row + x_hi + 1));
+    };
     if constexpr (Dim == 1) {
-      r.add(cell_start_[x_lo], cell_start_[x_hi + 1]);
+      add(0);
     } else if constexpr (Dim == 2) {
-      for (int y = std::max(coord[1] - 1, 0); y <= std::min(coord[1] + 1, count_[1] - 1); ++y) {
-        const std::size_t row = static_cast<std::size_t>(y) * count_[0];
-        r.add(cell_start_[row + x_lo], cell_start_[row + x_hi + 1]);
-      }
+      for (int y = std::max(coord[1] - 1, 0); y <= std::min(coord[1] + 1, count_[1] - 1); ++y)
+        add(static_cast<std::size_t>(y) * count_[0]);
     } else {
       for (int z = std::max(coord[2] - 1, 0); z <= std::min(coord[2] + 1, count_[2] - 1); ++z)
-        for (int y = std::max(coord[1] - 1, 0); y <= std::min(coord[1] + 1, count_[1] - 1); ++y) {
-          const std::size_t row = (static_cast<std::size_t>(z) * count_[1] + y) * count_[0];
-          r.add(cell_start_[row + x_lo], cell_start_[row + x_hi + 1]);
-        }
+        for (int y = std::max(coord[1] - 1, 0); y <= std::min(coord[1] + 1, count_[1] - 1); ++y)
+          add((static_cast<std::size_t>(z) * count_[1] + y) * count_[0]);
     }
     return r;
   }

@@ -8,7 +8,9 @@
 // same target as the pair loop's.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "sluice/core/linear_fit.hpp"
@@ -33,15 +35,38 @@ struct FluidSums {
 struct FluidIndex {
   std::vector<double> fluid;
   std::vector<std::uint32_t> before;  // size n + 1
+  // For each cell of the grid it was built on (with `grid`): the box around the cell's fluid particles,
+  // its lower corner then its upper one, Dim numbers each; lower +inf and upper -inf without one.
+  std::vector<double> box;
 
+  // `grid` binned on the current order; without it, no boxes (fluid_sums_at needs none).
   template <int Dim>
-  void build(const Particles<Dim>& p, int threads) {
+  void build(const Particles<Dim>& p, int threads, const CellGrid<Dim>* grid = nullptr) {
     const long n = static_cast<long>(p.size());
     fluid.resize(static_cast<std::size_t>(n));
     parallel::prefix_count(n, threads, before, [&](long i) {
       const bool is = p.kind[static_cast<std::size_t>(i)] == Kind::fluid;
       fluid[static_cast<std::size_t>(i)] = is ? 1.0 : 0.0;
       return is;
+    });
+    if (grid == nullptr) return;
+    const auto& start = grid->cell_start();
+    const long cells = static_cast<long>(grid->cell_count());
+    box.resize(static_cast<std::size_t>(cells) * 2 * Dim);
+    parallel::for_chunks(cells, threads, [&](long first, long last) {
+      for (long c = first; c < last; ++c) {
+        double* b = box.data() + c * 2 * Dim;
+        std::fill_n(b, Dim, std::numeric_limits<double>::infinity());
+        std::fill_n(b + Dim, Dim, -std::numeric_limits<double>::infinity());
+        if (before[start[c + 1]] == before[start[c]]) continue;
+        for (std::uint32_t i = start[c]; i < start[c + 1]; ++i) {
+          if (fluid[i] == 0.0) continue;
+          for (int d = 0; d < Dim; ++d) {
+            b[d] = std::min(b[d], p.position[d][i]);
+            b[Dim + d] = std::max(b[Dim + d], p.position[d][i]);
+          }
+        }
+      }
     });
   }
 };
@@ -53,11 +78,23 @@ FluidSums<Dim> fluid_sums_at(const Particles<Dim>& p, const CellGrid<Dim>& grid,
                              double mass, const FluidIndex& fluid, const Vec<Dim>& point);
 
 // Whether a fluid particle j lies at |x_j - point|^2 < radius2 (radius2 at most the square of the
-// grid's cell size), with the distance computed as the pair loop computes it.
+// grid's cell size), with the distance computed as the pair loop computes it; with `fluid` built on
+// the grid, its boxes pass over the cells whose fluid is all out of reach.
 template <int Dim>
 bool fluid_within(const Particles<Dim>& p, const CellGrid<Dim>& grid, const FluidIndex& fluid, const Vec<Dim>& point,
                   double radius2);
 
+// For each wall particle i of the grid's cells [first_cell, last_cell): reached[i] = 1 if a fluid
+// particle lies at |x_j - x_i|^2 < radius2, else 0, as fluid_within says for x_i (`fluid` built on
+// the grid, with its boxes). Fluid particles' entries are left as they are.
+template <int Dim>
+void walls_reached(const Particles<Dim>& p, const CellGrid<Dim>& grid, const FluidIndex& fluid, std::uint32_t first_cell,
+                   std::uint32_t last_cell, double radius2, std::uint8_t* reached);
+
+extern template void walls_reached<2>(const Particles<2>&, const CellGrid<2>&, const FluidIndex&, std::uint32_t,
+                                      std::uint32_t, double, std::uint8_t*);
+extern template void walls_reached<3>(const Particles<3>&, const CellGrid<3>&, const FluidIndex&, std::uint32_t,
+                                      std::uint32_t, double, std::uint8_t*);
 extern template bool fluid_within<2>(const Particles<2>&, const CellGrid<2>&, const FluidIndex&, const Vec<2>&, double);
 extern template bool fluid_within<3>(const Particles<3>&, const CellGrid<3>&, const FluidIndex&, const Vec<3>&, double);
 extern template FluidSums<2> fluid_sums_at<2>(const Particles<2>&, const CellGrid<2>&, const AnyKernel<2>&, double,

@@ -32,6 +32,7 @@
 #include <cmath>
 #include <memory>
 #include <type_traits>
+#include <vector>
 
 #include "sluice/case/case.hpp"
 #include "sluice/core/linear_fit.hpp"
@@ -110,9 +111,15 @@ struct MdbcWalls {
     const auto& g = *static_cast<const WallGhosts<Dim>*>(ghosts.get());
     const AnyKernel<Dim> any_kernel(kernel);
     FluidIndex fluid;
-    fluid.build(p, threads);
-    // The pair loop's support, as it computes it (physics/pair_loop-inl.hpp, rate_loop).
+    fluid.build(p, threads, &grid);
+    // The wall particles with a fluid particle within the pair loop's support, as it computes it
+    // (physics/pair_loop-inl.hpp, rate_loop).
     const double reach2 = Kernel::support * Kernel::support * kernel.h * kernel.h;
+    std::vector<std::uint8_t> reached(p.size(), 0);
+    parallel::for_chunks(static_cast<long>(grid.cell_count()), threads, [&](long first, long last) {
+      walls_reached<Dim>(p, grid, fluid, static_cast<std::uint32_t>(first), static_cast<std::uint32_t>(last), reach2,
+                         reached.data());
+    });
     // Each iteration reads fluid particles and writes one wall particle: no races.
     parallel::for_each_dynamic(static_cast<long>(p.size()), threads, 256, [&](long i) {
       const auto w = static_cast<std::size_t>(i);
@@ -125,7 +132,7 @@ struct MdbcWalls {
       // in this evaluation (nor in the Shepard filter's or shifting's sums): its ghost is not read, and
       // it holds rho0 and rest, as a dry wall does. Under water that is the deepest layer, whose ghost
       // node lies several spacings into the water, its sums as costly as any.
-      if (g.of(p.id[w]) && fluid_within<Dim>(p, grid, fluid, x, reach2)) {
+      if (g.of(p.id[w]) && reached[w] != 0) {
         const Vec<Dim>& ghost = g.node[p.id[w]];
         r = read_ghost<Dim>(fluid_sums_at<Dim>(p, grid, any_kernel, mass, fluid, ghost), kernel.h, eos, gravity, ghost, x);
         if (r.found && slip == WallSlip::no_slip) v = -1.0 * r.velocity;

@@ -499,33 +499,110 @@ FluidSums<Dim> fluid_sums_loop(const Particles<Dim>& p, const CellGrid<Dim>& gri
   return s;
 }
 
+// The squared distance between the box [lo, hi] and the box `box` (its lower corner, then its upper
+// one; lower +inf and upper -inf for an empty box, whose distance is +inf). A point is lo = hi.
+template <int Dim>
+HWY_INLINE double box_gap2(const double* box, const double* lo, const double* hi) {
+  double gap2 = 0.0;
+  for (int c = 0; c < Dim; ++c) {
+    const double out = std::max({box[c] - hi[c], lo[c] - box[Dim + c], 0.0});
+    gap2 += out * out;
+  }
+  return gap2;
+}
+
+// Whether a fluid particle of [begin, end) lies at |x_j - point|^2 < radius2, a vector at a time.
+template <int Dim>
+HWY_INLINE bool fluid_in_range(const std::array<const double*, Dim>& x, const double* fluid, std::uint32_t begin,
+                               std::uint32_t end, std::size_t size, const Vec<Dim>& point, double radius2) {
+  const simd::D d;
+  const std::size_t N = hn::Lanes(d);
+  const auto upper = hn::Set(d, radius2);
+  for (std::uint32_t j = begin; j < end; j += static_cast<std::uint32_t>(N)) {
+    const std::size_t lanes = std::min<std::size_t>(N, end - j);
+    std::array<Pack, Dim> r;
+    const auto r2 = separations<Dim>(x, j, lanes, size, point, r);
+    // The lanes past the range hold the point itself and fluid = 0: they never count.
+    const auto near = hn::And(hn::Lt(r2, upper), hn::Ne(simd::load_within(fluid, j, lanes, size, 0.0).v, hn::Zero(d)));
+    if (!hn::AllFalse(d, near)) return true;
+  }
+  return false;
+}
+
+// The boxes are summed without fused multiply-adds, which can round a box's distance above a
+// particle's in it by an ulp: their bound is widened by far more than that.
+inline double box_reach2(double radius2) { return radius2 * (1.0 + 1e-12); }
+
 // Whether a fluid particle lies closer than sqrt(radius2) to `point` (radius2 at most the square of
-// the grid's cell size): the candidates of the cells around the point's a vector at a time, ranges
-// without a fluid particle passed over, stopping at the first one found.
+// the grid's cell size): the candidates of the cells around the point's whose fluid box is in reach
+// (FluidIndex::box, where it was built with the grid), a vector at a time, stopping at the first one
+// found.
 template <int Dim>
 bool fluid_within_loop(const Particles<Dim>& p, const CellGrid<Dim>& grid, const FluidIndex& index,
                        const Vec<Dim>& point, double radius2) {
-  const simd::D d;
-  const std::size_t N = hn::Lanes(d), size = p.size();
-  const auto upper = hn::Set(d, radius2);
-  const double* const fluid = index.fluid.data();
+  const auto& start = grid.cell_start();
   const std::uint32_t* const before = index.before.data();
   std::array<const double*, Dim> x;
   for (int c = 0; c < Dim; ++c) x[c] = p.position[c].data();
-  const auto ranges = grid.neighbor_ranges(grid.cell_at(point));
-  for (int range = 0; range < ranges.count; ++range) {
-    const auto [begin, end] = ranges.range[range];
-    if (before[end] == before[begin]) continue;
-    for (std::uint32_t j = begin; j < end; j += static_cast<std::uint32_t>(N)) {
-      const std::size_t lanes = std::min<std::size_t>(N, end - j);
-      std::array<Pack, Dim> r;
-      const auto r2 = separations<Dim>(x, j, lanes, size, point, r);
-      // The lanes past the range hold the point itself and fluid = 0: they never count.
-      const auto near = hn::And(hn::Lt(r2, upper), hn::Ne(simd::load_within(fluid, j, lanes, size, 0.0).v, hn::Zero(d)));
-      if (!hn::AllFalse(d, near)) return true;
+  const auto cells = grid.neighbor_cells(grid.cell_at(point));
+  for (int row = 0; row < cells.count; ++row) {
+    const auto [first, last] = cells.range[row];
+    if (before[start[last]] == before[start[first]]) continue;
+    for (std::uint32_t cell = first; cell < last; ++cell) {
+      if (!index.box.empty() &&
+          !(box_gap2<Dim>(index.box.data() + std::size_t{cell} * 2 * Dim, point.data(), point.data()) <
+            box_reach2(radius2)))
+        continue;
+      if (fluid_in_range<Dim>(x, index.fluid.data(), start[cell], start[cell + 1], p.size(), point, radius2)) return true;
     }
   }
   return false;
+}
+
+// For each wall particle i of the cells [first_cell, last_cell): reached[i] = 1 if a fluid particle
+// lies closer than sqrt(radius2) to it, else 0, as fluid_within says (`index` built with the grid).
+// The cells around each cell whose fluid box comes within reach of the box around the cell's wall
+// particles are found once for all of them.
+template <int Dim>
+void walls_reached_loop(const Particles<Dim>& p, const CellGrid<Dim>& grid, const FluidIndex& index,
+                        std::uint32_t first_cell, std::uint32_t last_cell, double radius2, std::uint8_t* reached) {
+  const auto& start = grid.cell_start();
+  const std::uint32_t* const before = index.before.data();
+  const double* const fluid = index.fluid.data();
+  std::array<const double*, Dim> x;
+  for (int c = 0; c < Dim; ++c) x[c] = p.position[c].data();
+  const double reach2 = box_reach2(radius2);
+  for (std::uint32_t cell = first_cell; cell < last_cell; ++cell) {
+    const std::uint32_t b = start[cell], e = start[cell + 1];
+    if (before[e] - before[b] == e - b) continue;  // no wall particle
+    Vec<Dim> lo, hi;
+    lo.fill(std::numeric_limits<double>::infinity());
+    hi.fill(-std::numeric_limits<double>::infinity());
+    for (std::uint32_t i = b; i < e; ++i) {
+      if (fluid[i] != 0.0) continue;
+      for (int c = 0; c < Dim; ++c) lo[c] = std::min(lo[c], x[c][i]), hi[c] = std::max(hi[c], x[c][i]);
+    }
+    std::array<std::uint32_t, 27> near_cells;
+    int near = 0;
+    const auto cells = grid.neighbor_cells(cell);
+    for (int row = 0; row < cells.count; ++row) {
+      const auto [first, last] = cells.range[row];
+      for (std::uint32_t k = first; k < last; ++k)
+        if (box_gap2<Dim>(index.box.data() + std::size_t{k} * 2 * Dim, lo.data(), hi.data()) < reach2) near_cells[near++] = k;
+    }
+    for (std::uint32_t i = b; i < e; ++i) {
+      if (fluid[i] != 0.0) continue;
+      Vec<Dim> xi;
+      for (int c = 0; c < Dim; ++c) xi[c] = x[c][i];
+      bool found = false;
+      for (int n = 0; n < near && !found; ++n) {
+        const std::uint32_t k = near_cells[n];
+        found = box_gap2<Dim>(index.box.data() + std::size_t{k} * 2 * Dim, xi.data(), xi.data()) < reach2 &&
+                fluid_in_range<Dim>(x, fluid, start[k], start[k + 1], p.size(), xi, radius2);
+      }
+      reached[i] = found ? 1 : 0;
+    }
+  }
 }
 
 // The loops of one kernel and wall pair traits with pairs in precision R, entered in the table; with
@@ -542,7 +619,10 @@ void add_rate_loops(DimensionLoops<Dim>& loops) {
     loops.shepard[K] = &shepard_loop<Dim, Kernel>;
     loops.shifting[K] = &shifting_loop<Dim, Kernel>;
     loops.fluid_sums[K] = &fluid_sums_loop<Dim, Kernel>;
-    if constexpr (K == 0) loops.fluid_within = &fluid_within_loop<Dim>;
+    if constexpr (K == 0) {
+      loops.fluid_within = &fluid_within_loop<Dim>;
+      loops.walls_reached = &walls_reached_loop<Dim>;
+    }
   }
 }
 

@@ -141,6 +141,16 @@ bool fluid_within(const Particles<Dim>& p, const CellGrid<Dim>& grid, const Flui
   return loops().template of<Dim>().fluid_within(p, grid, fluid, point, radius2);
 }
 
+template <int Dim>
+void walls_reached(const Particles<Dim>& p, const CellGrid<Dim>& grid, const FluidIndex& fluid, std::uint32_t first_cell,
+                   std::uint32_t last_cell, double radius2, std::uint8_t* reached) {
+  loops().template of<Dim>().walls_reached(p, grid, fluid, first_cell, last_cell, radius2, reached);
+}
+
+template void walls_reached<2>(const Particles<2>&, const CellGrid<2>&, const FluidIndex&, std::uint32_t, std::uint32_t,
+                               double, std::uint8_t*);
+template void walls_reached<3>(const Particles<3>&, const CellGrid<3>&, const FluidIndex&, std::uint32_t, std::uint32_t,
+                               double, std::uint8_t*);
 template bool fluid_within<2>(const Particles<2>&, const CellGrid<2>&, const FluidIndex&, const Vec<2>&, double);
 template bool fluid_within<3>(const Particles<3>&, const CellGrid<3>&, const FluidIndex&, const Vec<3>&, double);
 template FluidSums<2> fluid_sums_at<2>(const Particles<2>&, const CellGrid<2>&, const AnyKernel<2>&, double,

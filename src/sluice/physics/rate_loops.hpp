@@ -2,8 +2,8 @@
 // a dimension and precision at a time; physics/pair_loop.cpp puts each target's table together and
 // picks the CPU's best): a function per dimension, kernel, wall pair traits, artificial-pressure
 // switch and precision of the pairs, and a Shepard filter, the sums of particle shifting and the fluid
-// sums at a point (mDBC's ghost nodes) per dimension and kernel, and the test for fluid near a point per
-// dimension.
+// sums at a point (mDBC's ghost nodes) per dimension and kernel, and the tests for fluid near a point and
+// near each wall particle per dimension.
 #pragma once
 
 #include <array>
@@ -39,6 +39,10 @@ using FluidWithinLoop = bool (*)(const Particles<Dim>&, const CellGrid<Dim>&, co
                                  double radius2);
 
 template <int Dim>
+using WallsReachedLoop = void (*)(const Particles<Dim>&, const CellGrid<Dim>&, const FluidIndex&, std::uint32_t first_cell,
+                                  std::uint32_t last_cell, double radius2, std::uint8_t* reached);
+
+template <int Dim>
 struct DimensionLoops {
   // [kernel][wall pair traits][with artificial pressure][single-precision pairs]
   RateLoop<Dim> rates[kKernels][kPairWallTraits][2][2];
@@ -46,6 +50,7 @@ struct DimensionLoops {
   ShiftingLoop<Dim> shifting[kKernels];
   FluidSumsLoop<Dim> fluid_sums[kKernels];
   FluidWithinLoop<Dim> fluid_within;
+  WallsReachedLoop<Dim> walls_reached;
 };
 
 struct RateLoops {
