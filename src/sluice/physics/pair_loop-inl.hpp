@@ -62,18 +62,26 @@ HWY_INLINE void for_each_range(const Ranges& ranges, F&& f) {
 
 // The candidates of one cell and what its particles give them. Every particle i of a cell has the
 // same forward candidates, except that in its own cell only those after i count: the ranges
-// [cell_begin, own_end) and the cell's other forward ranges (CellGrid::ForwardRanges). Their
-// contributions, Outputs numbers per candidate, are summed here, each candidate at a fixed place of
-// the block, and added to the particles once, when the cell is done: the neighbours' sums stay in the
-// first-level cache, no two threads ever write the same place (the block is the thread's own), and
-// consecutive particles of the cell write the same vectors at the same addresses (each range starts a
-// whole vector).
+// [cell_begin, own_end) and the cell's other forward ranges (CellGrid::ForwardRanges), each taken a
+// whole vector at a time from its first index.
+//
+// In double precision (kDirect) a candidate vector's shares are added straight to the output arrays:
+// the band order (for_each_pair) makes this thread the only one writing the particles of these ranges.
+// Only the last vector of a range, when the range does not fill it, is summed here (`tail`) and added
+// when the cell is done: its lanes past the range's end are other cells' particles, which another
+// thread may be writing. In single precision the shares, floats, are summed in a block of the cell's
+// own (`to_j`), each candidate at a fixed place, and added to the particles once, when the cell is
+// done. Either way no two threads ever write the same place.
 template <int Dim, std::size_t Outputs, class R>
 struct CellBlock {
+  static constexpr bool kDirect = std::is_same_v<R, double>;
   static constexpr int kMaxRanges = (Dim == 3 ? 4 : Dim - 1) + 1;
-  std::array<std::uint32_t, kMaxRanges> begin{}, end{}, offset{};
+  static constexpr std::size_t kMaxLanes = HWY_MAX_BYTES / sizeof(R);
+  std::array<std::uint32_t, kMaxRanges> begin{}, end{}, offset{}, tail_begin{};
   int ranges = 0;
-  std::array<std::vector<R>, Outputs> to_j;  // in the precision of the pair arithmetic
+  std::array<std::vector<R>, Outputs> to_j;  // single precision: in the precision of the pair arithmetic
+  // double precision: each range's last, partial vector (from tail_begin), for each output
+  alignas(64) std::array<std::array<std::array<R, kMaxLanes>, Outputs>, kMaxRanges> tail;
 
   // Sets the block to the cell's candidates, with nothing given to them yet.
   template <class Forward>
@@ -85,24 +93,47 @@ struct CellBlock {
       if (e <= b) return;
       begin[ranges] = b;
       end[ranges] = e;
-      offset[ranges++] = static_cast<std::uint32_t>(size);
+      offset[ranges] = static_cast<std::uint32_t>(size);
+      const std::uint32_t whole = (e - b) / static_cast<std::uint32_t>(N) * static_cast<std::uint32_t>(N);
+      tail_begin[ranges] = whole == e - b ? e : b + whole;
+      if constexpr (kDirect)
+        for (auto& t : tail[ranges]) std::fill_n(t.begin(), N, R(0));
+      ++ranges;
       size += (e - b + N - 1) / N * N;
     };
     add(cell_begin, forward.own_end);
     for (int k = 0; k < forward.others; ++k) add(forward.other[k].first, forward.other[k].second);
-    if (to_j[0].size() < size)
-      for (auto& b : to_j) b.resize(2 * size);
-    for (auto& b : to_j) std::fill_n(b.begin(), size, R(0));
+    if constexpr (!kDirect) {
+      if (to_j[0].size() < size)
+        for (auto& b : to_j) b.resize(2 * size);
+      for (auto& b : to_j) std::fill_n(b.begin(), size, R(0));
+    }
   }
 
-  // Adds what the cell's particles gave its candidates to the output arrays.
+  // Where the shares of the vector of range k at j go for output c, and the arrays they are added to.
+  HWY_INLINE R* share(int k, std::size_t c, std::uint32_t j, const std::array<double*, Outputs>& out) {
+    if constexpr (kDirect) {
+      if (j < tail_begin[k]) return out[c] + j;
+      return tail[k][c].data();
+    } else {
+      return to_j[c].data() + offset[k] + (j - begin[k]);
+    }
+  }
+
+  // Adds what the cell's particles gave its candidates (and has not added yet) to the output arrays.
   void finish(const std::array<double*, Outputs>& out) const {
     for (int k = 0; k < ranges; ++k) {
-      const std::uint32_t b = begin[k], n = end[k] - b, o = offset[k];
-      for (std::size_t c = 0; c < Outputs; ++c) {
-        double* __restrict a = out[c] + b;
-        const R* __restrict t = to_j[c].data() + o;
-        for (std::uint32_t q = 0; q < n; ++q) a[q] += t[q];
+      if constexpr (kDirect) {
+        const std::uint32_t b = tail_begin[k], n = end[k] - b;
+        for (std::size_t c = 0; c < Outputs; ++c)
+          for (std::uint32_t q = 0; q < n; ++q) out[c][b + q] += tail[k][c][q];
+      } else {
+        const std::uint32_t b = begin[k], n = end[k] - b, o = offset[k];
+        for (std::size_t c = 0; c < Outputs; ++c) {
+          double* __restrict a = out[c] + b;
+          const R* __restrict t = to_j[c].data() + o;
+          for (std::uint32_t q = 0; q < n; ++q) a[q] += t[q];
+        }
       }
     }
   }
@@ -173,16 +204,15 @@ HWY_INLINE void evaluate_pairs(const Pair& shared_pair, std::uint32_t i, const s
       if (hn::AllFalse(d, hit.m)) continue;
       const auto sj = pair.template side<V>([&](const R* a) { return simd::load_at(a, j, size); });
       const auto rates = pair(si, sj, r_ij);
-      const std::size_t at = block.offset[k] + (j - b);
       for (std::size_t c = 0; c < A; ++c) {
         const V f = simd::select(hit, rates.opposite[c], 0.0);
         sum[c] += f;
-        R* to = block.to_j[c].data() + at;
+        R* to = block.share(k, c, j, out);
         simd::store(simd::load(to) - f, to);
       }
       for (std::size_t c = 0; c < S; ++c) {
         sum[A + c] += simd::select(hit, rates.to_i[c], 0.0);
-        R* to = block.to_j[A + c].data() + at;
+        R* to = block.share(k, A + c, j, out);
         simd::store(simd::load(to) + simd::select(hit, rates.to_j[c], 0.0), to);
       }
       vmax = simd::max(vmax, simd::select(hit, rates.speed2, 0.0));
