@@ -106,6 +106,15 @@ template <class F>
 void prefix_count(long n, int threads, std::vector<std::uint32_t>& before, F&& f) {
   before.resize(static_cast<std::size_t>(n) + 1);
   const int teams = n >= light_loop_threshold ? std::max(1, threads) : 1;
+  if (teams == 1) {  // one pass: no other thread's share to count first
+    std::uint32_t running = 0;
+    for (long i = 0; i < n; ++i) {
+      before[static_cast<std::size_t>(i)] = running;
+      running += f(i) ? 1u : 0u;
+    }
+    before[static_cast<std::size_t>(n)] = running;
+    return;
+  }
   std::vector<std::uint32_t> shares(static_cast<std::size_t>(teams) + 1, 0);
   in_team(teams, teams > 1, [&](const Team& team) {
     const long t = team.index(), size = team.size();
