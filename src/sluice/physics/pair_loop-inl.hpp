@@ -110,7 +110,8 @@ struct CellBlock {
     }
   }
 
-  // Where the shares of the vector of range k at j go for output c, and the arrays they are added to.
+  // Where output c of the candidate vector of range k starting at j is summed: the output array itself,
+  // or (double precision, the range's partial last vector) `tail`; in single precision the block.
   HWY_INLINE R* share(int k, std::size_t c, std::uint32_t j, const std::array<double*, Outputs>& out) {
     if constexpr (kDirect) {
       if (j < tail_begin[k]) return out[c] + j;
