@@ -428,3 +428,32 @@ TEST(Validation, MissingProbeIsAClearError) {
     EXPECT_NE(std::string(e.what()).find("front"), std::string::npos) << e.what();
   }
 }
+
+// sluice validate --compare 'LABEL: KEY=VALUE; KEY=VALUE': the label names a column and a directory.
+TEST(ValidationVariant, ParsesALabelAndItsOverrides) {
+  const ValidationVariant v = parse_variant("  mdbc+shift :physics.wall_boundary=mdbc;  physics.shifting=2 ;; domain.h_over_dx=2 ");
+  EXPECT_EQ(v.label, "mdbc+shift");
+  ASSERT_EQ(v.sets.size(), 3u);
+  EXPECT_EQ(v.sets[0], "physics.wall_boundary=mdbc");
+  EXPECT_EQ(v.sets[1], "physics.shifting=2");
+  EXPECT_EQ(v.sets[2], "domain.h_over_dx=2");
+  // A vector value keeps its commas and spaces.
+  EXPECT_EQ(parse_variant("g: physics.gravity=[0, -9.8]").sets.at(0), "physics.gravity=[0, -9.8]");
+  const struct {
+    const char* text;
+    const char* expected;
+  } bad[] = {{"physics.shifting=2", "no label"},
+             {": physics.shifting=2", "the label is empty"},
+             {"a/b: physics.shifting=2", "is not a plain name"},
+             {"..: physics.shifting=2", "is not a plain name"},
+             {"x:", "no KEY=VALUE"},
+             {"x: ; ", "no KEY=VALUE"}};
+  for (const auto& b : bad) {
+    try {
+      (void)parse_variant(b.text);
+      ADD_FAILURE() << b.text << ": expected an error";
+    } catch (const AnalysisError& e) {
+      EXPECT_NE(std::string(e.what()).find(b.expected), std::string::npos) << b.text << ": " << e.what();
+    }
+  }
+}

@@ -9,6 +9,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -51,16 +52,17 @@ std::map<std::string, double> read_checks(const fs::path& path) {
   return out;
 }
 
-// validation.csv: case.comparison -> (rms, max).
-std::map<std::string, std::pair<double, double>> read_comparisons(const fs::path& path) {
+// validation.csv: case.comparison -> (rms, max), of the main run or of the --compare variant `variant`.
+std::map<std::string, std::pair<double, double>> read_comparisons(const fs::path& path, const std::string& variant = "") {
   std::map<std::string, std::pair<double, double>> out;
   std::istringstream in(read_text(path));
   std::string line;
   std::getline(in, line);
-  EXPECT_EQ(line.rfind("case,comparison,points,rms,max,mean", 0), 0u) << line;
+  EXPECT_EQ(line, "case,comparison,points,rms,max,mean,quantity,reference,window,variant");
   while (std::getline(in, line)) {
-    const auto f = split(line);
-    if (f.size() >= 6) out[f[0] + "." + f[1]] = {std::stod(f[3]), std::stod(f[4])};
+    const auto f = split(line);  // the main run's rows end in an empty variant field, which split drops
+    if (f.size() >= 6 && (f.size() > 9 ? f[9] : std::string()) == variant)
+      out[f[0] + "." + f[1]] = {std::stod(f[3]), std::stod(f[4])};
   }
   return out;
 }
@@ -119,6 +121,46 @@ TEST(QuickValidation, AgreesWithExperimentsAtCoarseResolution) {
   EXPECT_LE(c.at("buchner.pressure_rms"), 0.60);
   EXPECT_LE(c.at("buchner.plateau_rms"), 0.25);
   EXPECT_LE(c.at("buchner.impact_time"), 0.3);
+
+  std::error_code ec;
+  fs::remove_all(dir, ec);
+}
+
+// --compare: the Buchner case run again with mDBC walls, reported beside the main run (about 20 s on
+// one core). The variant's numbers are its own run's, the checks and the exit status the main run's.
+TEST(QuickValidation, ReportsVariantsBesideTheMainRun) {
+  const fs::path dir = fs::temp_directory_path() / fmt::format("sluice_validate_compare_{}", ::getpid());
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string command = fmt::format(
+      "'{}' validate --quick --case buchner --compare 'mdbc: physics.wall_boundary=mdbc' --threads 1 -q -o '{}' > '{}' "
+      "2> '{}'",
+      SLUICE_BIN, (dir / "out").string(), (dir / "stdout.txt").string(), (dir / "stderr.txt").string());
+  const int status = std::system(command.c_str());
+  ASSERT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 0) << read_text(dir / "stdout.txt") << read_text(dir / "stderr.txt");
+
+  const auto main_run = read_comparisons(dir / "out" / "validation.csv");
+  const auto variant = read_comparisons(dir / "out" / "validation.csv", "mdbc");
+  for (const char* id : {"buchner.pressure", "buchner.pressure_impact", "buchner.pressure_plateau",
+                         "buchner.pressure_second_impact"}) {
+    ASSERT_TRUE(main_run.count(id)) << id;
+    ASSERT_TRUE(variant.count(id)) << id;
+    EXPECT_TRUE(std::isfinite(variant.at(id).first)) << id;
+  }
+  // Another wall treatment, another run: its wall pressure differs from the dynamic walls'.
+  EXPECT_NE(variant.at("buchner.pressure").first, main_run.at("buchner.pressure").first);
+  EXPECT_TRUE(fs::exists(dir / "out" / "variants" / "mdbc" / "runs" / "buchner" / "probes" / "wall_pressure.csv"));
+  // The checks are the main run's only.
+  EXPECT_EQ(read_checks(dir / "out" / "checks.csv").size(), 3u);
+  const std::string html = read_text(dir / "out" / "report.html");
+  EXPECT_NE(html.find("<th>RMS, mdbc</th>"), std::string::npos);
+  EXPECT_NE(html.find("Variant mdbc: physics.wall_boundary=mdbc"), std::string::npos);
+  std::size_t figures = 0;
+  for (auto pos = html.find("<svg"); pos != std::string::npos; pos = html.find("<svg", pos + 1)) ++figures;
+  EXPECT_EQ(figures, 2u);
+  const std::string table = read_text(dir / "stdout.txt");
+  EXPECT_NE(table.find("mdbc = physics.wall_boundary=mdbc"), std::string::npos) << table;
+  EXPECT_NE(table.find(fmt::format("{:.3f}", variant.at("buchner.pressure").first)), std::string::npos) << table;
 
   std::error_code ec;
   fs::remove_all(dir, ec);
@@ -200,6 +242,13 @@ TEST(AnalysisCommands, BadInputIsAClearError) {
       {"validate --case spheric2 --set 'water[0].max=[3.22, 1.0, 0.5]'", "the SPHERIC test 2 data are for a 3D tank"},
       {"validate --case buchner --set tank.width=3", "the Buchner data are for a column 2H wide"},
       {"validate --case martin_moyce --set 'physics.gravity=[0.1, -9.81]'", "assume gravity straight down"},
+      // The variants of --compare: their syntax, their labels, and their overrides, before anything runs.
+      {"validate --compare physics.wall_boundary=mdbc", "no label"},
+      {"validate --compare 'a/b: physics.wall_boundary=mdbc'", "is not a plain name"},
+      {"validate --compare 'mdbc:'", "no KEY=VALUE after the label"},
+      {"validate --compare 'w: physics.shifting=1' --compare 'w: physics.shifting=2'", "the label 'w' is given twice"},
+      {"validate --quick --compare 'w: physics.wall_boundary=adamy'", "expected one of \"dynamic\", \"adami\""},
+      {"validate --case buchner --compare 'w: tank.width=3'", "the Buchner data are for a column 2H wide"},
   };
   for (const auto& c : cases) {
     const Outcome o = run_sluice(c.args);

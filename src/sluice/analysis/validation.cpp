@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -27,6 +28,36 @@ bool ValidationResult::passed() const {
 
 bool ValidationReport::passed() const {
   return std::all_of(results.begin(), results.end(), [](const ValidationResult& r) { return r.passed(); });
+}
+
+ValidationVariant parse_variant(const std::string& text) {
+  const auto trim = [](std::string s) {
+    const auto first = s.find_first_not_of(" \t");
+    if (first == std::string::npos) return std::string();
+    return s.substr(first, s.find_last_not_of(" \t") - first + 1);
+  };
+  const std::string expected = "expected LABEL: KEY=VALUE; KEY=VALUE ..., e.g. 'mdbc: physics.wall_boundary=mdbc'";
+  const auto colon = text.find(':');
+  if (colon == std::string::npos)
+    throw AnalysisError(fmt::format("--compare '{}': no label; {}", text, expected));
+  ValidationVariant v;
+  v.label = trim(text.substr(0, colon));
+  if (v.label.empty()) throw AnalysisError(fmt::format("--compare '{}': the label is empty; {}", text, expected));
+  const bool plain = std::all_of(v.label.begin(), v.label.end(), [](char ch) {
+    return std::isalnum(static_cast<unsigned char>(ch)) != 0 || ch == '.' || ch == '_' || ch == '+' || ch == '-';
+  });
+  if (!plain || v.label == "." || v.label == "..")
+    throw AnalysisError(fmt::format("--compare '{}': the label '{}' is not a plain name (letters, digits, . _ + -): it "
+                                    "names the variant's directory",
+                                    text, v.label));
+  std::string rest = text.substr(colon + 1);
+  for (std::size_t start = 0; start <= rest.size();) {
+    const auto end = std::min(rest.find(';', start), rest.size());
+    if (std::string item = trim(rest.substr(start, end - start)); !item.empty()) v.sets.push_back(std::move(item));
+    start = end + 1;
+  }
+  if (v.sets.empty()) throw AnalysisError(fmt::format("--compare '{}': no KEY=VALUE after the label; {}", text, expected));
+  return v;
 }
 
 ValidationBounds full_bounds() {
@@ -416,15 +447,49 @@ std::string csv_text(std::string text) {
   return text;
 }
 
+// A variant's RMS for the comparison `id` of case `case_name` (NaN, shown "-", where it has none).
+double variant_rms(const ValidationReport::Variant& v, const std::string& case_name, const std::string& id) {
+  for (const auto& r : v.results)
+    if (r.case_name == case_name)
+      for (const auto& c : r.comparisons)
+        if (c.id == id) return c.difference.rms;
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+// A case's table of what ran: resolution, particles, steps, leaks, time, physics.
+std::vector<std::vector<std::string>> run_rows(const ValidationResult& r) {
+  return {{"case", r.case_name + " (cases/" + r.case_name + ".toml)"},
+          {"resolution", r.resolution},
+          {"particles", fmt::format("{} ({} fluid)", r.particles, r.fluid_particles)},
+          {"steps", std::to_string(r.steps)},
+          {"leaks, outflow", fmt::format("{} put back from inside a wall, {} went over the open "
+                                         "tank's walls and were removed",
+                                         r.leaks, r.outflow)},
+          {"wall time", fmt::format("{:.1f} s", r.wall_seconds)},
+          {"physics", r.settings}};
+}
+
+std::vector<std::vector<std::string>> comparison_rows(const ValidationResult& r) {
+  std::vector<std::vector<std::string>> cmp;
+  for (const auto& c : r.comparisons)
+    cmp.push_back({c.quantity, c.reference, c.window, std::to_string(c.difference.points), number(c.difference.rms),
+                   number(c.difference.max_abs), number(c.difference.mean)});
+  return cmp;
+}
+
 }  // namespace
 
 std::string validation_csv(const ValidationReport& report) {
-  std::string s = "case,comparison,points,rms,max,mean,quantity,reference,window\n";
-  for (const auto& r : report.results)
-    for (const auto& c : r.comparisons)
-      s += fmt::format("{},{},{},{},{},{},{},{},{}\n", r.case_name, c.id, c.difference.points, c.difference.rms,
-                       c.difference.max_abs, c.difference.mean, csv_text(c.quantity), csv_text(c.reference),
-                       csv_text(c.window));
+  std::string s = "case,comparison,points,rms,max,mean,quantity,reference,window,variant\n";
+  const auto rows = [&](const std::vector<ValidationResult>& results, const std::string& variant) {
+    for (const auto& r : results)
+      for (const auto& c : r.comparisons)
+        s += fmt::format("{},{},{},{},{},{},{},{},{},{}\n", r.case_name, c.id, c.difference.points, c.difference.rms,
+                         c.difference.max_abs, c.difference.mean, csv_text(c.quantity), csv_text(c.reference),
+                         csv_text(c.window), variant);
+  };
+  rows(report.results, "");
+  for (const auto& v : report.variants) rows(v.results, v.variant.label);
   return s;
 }
 
@@ -436,12 +501,22 @@ std::string checks_csv(const ValidationReport& report) {
 }
 
 std::string validation_table(const ValidationReport& report) {
-  std::string s = fmt::format("{:<14} {:<44} {:<14} {:>6} {:>8} {:>8}\n", "case", "quantity", "window", "points", "RMS",
+  std::string s = fmt::format("{:<14} {:<44} {:<14} {:>6} {:>8} {:>8}", "case", "quantity", "window", "points", "RMS",
                               "max");
+  for (const auto& v : report.variants) s += fmt::format(" {:>12}", v.variant.label);
+  s += "\n";
   for (const auto& r : report.results)
-    for (const auto& c : r.comparisons)
-      s += fmt::format("{:<14} {:<44} {:<14} {:>6} {:>8.3f} {:>8.3f}\n", r.case_name, c.quantity, c.window,
+    for (const auto& c : r.comparisons) {
+      s += fmt::format("{:<14} {:<44} {:<14} {:>6} {:>8.3f} {:>8.3f}", r.case_name, c.quantity, c.window,
                        c.difference.points, c.difference.rms, c.difference.max_abs);
+      for (const auto& v : report.variants) s += fmt::format(" {:>12}", number(variant_rms(v, r.case_name, c.id)));
+      s += "\n";
+    }
+  if (!report.variants.empty()) {
+    s += "\nRMS beside the main run's, with";
+    for (const auto& v : report.variants) s += fmt::format(" {} = {};", v.variant.label, fmt::join(v.variant.sets, " "));
+    s += " the checks below are the main run's\n";
+  }
   s += "\n";
   for (const auto& r : report.results)
     for (const auto& c : r.checks)
@@ -459,10 +534,23 @@ std::string validation_html(const ValidationReport& report, const std::string& c
   html.heading("Summary");
   std::vector<std::vector<std::string>> rows;
   for (const auto& r : report.results)
-    for (const auto& c : r.comparisons)
+    for (const auto& c : r.comparisons) {
       rows.push_back({r.case_name, c.quantity, c.reference, c.window, r.resolution, std::to_string(c.difference.points),
                       number(c.difference.rms), number(c.difference.max_abs), number(c.difference.mean)});
-  html.table({"case", "quantity", "reference", "window", "resolution", "points", "RMS", "max |diff|", "mean diff"}, rows);
+      for (const auto& v : report.variants) rows.back().push_back(number(variant_rms(v, r.case_name, c.id)));
+    }
+  std::vector<std::string> header{"case", "quantity", "reference", "window", "resolution", "points", "RMS", "max |diff|",
+                                  "mean diff"};
+  for (const auto& v : report.variants) header.push_back("RMS, " + v.variant.label);
+  html.table(header, rows);
+  if (!report.variants.empty()) {
+    std::vector<std::vector<std::string>> settings;
+    for (const auto& v : report.variants) settings.push_back({v.variant.label, fmt::format("{}", fmt::join(v.variant.sets, " "))});
+    html.paragraph("The RMS columns after the first are the same cases run again with these overrides (on top of the "
+                   "main run's); each has a section at the end of the report. The requirements below are the main "
+                   "run's.");
+    html.table({"variant", "overrides"}, settings);
+  }
   rows.clear();
   for (const auto& r : report.results)
     for (const auto& c : r.checks)
@@ -470,27 +558,34 @@ std::string validation_html(const ValidationReport& report, const std::string& c
   html.paragraph(report.quick ? "Accuracy bounds at the quick (coarse) resolution:" : "Accuracy targets:");
   html.table({"requirement", "value", "bound", "result"}, rows);
 
-  for (const auto& r : report.results) {
-    html.heading(r.title);
-    html.table({"", ""}, {{"case", r.case_name + " (cases/" + r.case_name + ".toml)"},
-                          {"resolution", r.resolution},
-                          {"particles", fmt::format("{} ({} fluid)", r.particles, r.fluid_particles)},
-                          {"steps", std::to_string(r.steps)},
-                          {"leaks, outflow", fmt::format("{} put back from inside a wall, {} went over the open "
-                                                         "tank's walls and were removed",
-                                                         r.leaks, r.outflow)},
-                          {"wall time", fmt::format("{:.1f} s", r.wall_seconds)},
-                          {"physics", r.settings}});
-    for (const auto& f : r.figures) html.figure(f.svg, f.caption);
-    std::vector<std::vector<std::string>> cmp;
-    for (const auto& c : r.comparisons)
-      cmp.push_back({c.quantity, c.reference, c.window, std::to_string(c.difference.points), number(c.difference.rms),
-                     number(c.difference.max_abs), number(c.difference.mean)});
-    html.table({"quantity", "reference", "window", "points", "RMS", "max |diff|", "mean diff"}, cmp);
-    for (const auto& n : r.notes) html.paragraph(n);
+  const auto sections = [&](const std::vector<ValidationResult>& results, const std::string& variant) {
+    for (const auto& r : results) {
+      html.heading(variant.empty() ? r.title : fmt::format("{} ({})", r.title, variant), variant.empty() ? 2 : 3);
+      html.table({"", ""}, run_rows(r));
+      for (const auto& f : r.figures) html.figure(f.svg, f.caption);
+      html.table({"quantity", "reference", "window", "points", "RMS", "max |diff|", "mean diff"}, comparison_rows(r));
+      if (!variant.empty()) {
+        std::vector<std::vector<std::string>> checks;
+        for (const auto& c : r.checks)
+          checks.push_back({c.what, number(c.value), fmt::format("{:g}", c.bound), c.passed() ? "PASS" : "FAIL"});
+        html.table({"requirement, for comparison", "value", "bound", "result"}, checks);
+      }
+      for (const auto& n : r.notes) html.paragraph(n);
+    }
+  };
+  sections(report.results, "");
+  for (const auto& v : report.variants) {
+    html.heading(fmt::format("Variant {}: {}", v.variant.label, fmt::join(v.variant.sets, " ")));
+    sections(v.results, v.variant.label);
   }
   return html.html();
 }
+
+namespace {
+ValidationResult run_and_evaluate(const std::string& name, const Case& c, const fs::path& run_dir,
+                                  const std::string& label, const ValidationBounds& bounds,
+                                  const ValidationOptions& options, std::ostream& log);
+}  // namespace
 
 ValidationReport run_validation(const ValidationOptions& options, std::ostream& log) {
   std::vector<std::string> names = options.cases;
@@ -504,54 +599,84 @@ ValidationReport run_validation(const ValidationOptions& options, std::ostream& 
   const ValidationBounds bounds = options.quick ? quick_bounds() : full_bounds();
   ValidationReport report;
   report.quick = options.quick;
-  // Every case is prepared (and the --set overrides checked) before anything runs or is written.
-  std::vector<Case> cases;
-  for (const std::string& name : names) {
-    auto loaded = load_builtin_case(name);
-    if (!loaded) throw AnalysisError(fmt::format("the built-in case '{}' is missing from this build", name));
-    Case c = *loaded;
-    if (options.quick) {
-      const double length = unit_length(name, c);
-      apply_overrides(c, {fmt::format("domain.dx={:.17g}", length / quick_resolution(name))});
+  for (std::size_t k = 0; k < options.variants.size(); ++k)
+    for (std::size_t q = 0; q < k; ++q)
+      if (options.variants[q].label == options.variants[k].label)
+        throw AnalysisError(fmt::format("--compare: the label '{}' is given twice", options.variants[k].label));
+  // Every case is prepared (and the overrides checked) before anything runs or is written: the main
+  // run's, then each variant's.
+  const auto prepare = [&](const std::vector<std::string>& variant_sets) {
+    std::vector<Case> cases;
+    for (const std::string& name : names) {
+      auto loaded = load_builtin_case(name);
+      if (!loaded) throw AnalysisError(fmt::format("the built-in case '{}' is missing from this build", name));
+      Case c = *loaded;
+      if (options.quick) {
+        const double length = unit_length(name, c);
+        apply_overrides(c, {fmt::format("domain.dx={:.17g}", length / quick_resolution(name))});
+      }
+      apply_overrides(c, options.sets);
+      apply_overrides(c, variant_sets);
+      // A case changed so that its data no longer apply is bad input, found before hours of running.
+      try {
+        check_validation_case(name, c);
+      } catch (const AnalysisError& e) {
+        throw CaseError(e.what());
+      }
+      cases.push_back(std::move(c));
     }
-    apply_overrides(c, options.sets);
-    // A case changed so that its data no longer apply is bad input, found before hours of running.
-    try {
-      check_validation_case(name, c);
-    } catch (const AnalysisError& e) {
-      throw CaseError(e.what());
-    }
-    cases.push_back(std::move(c));
-  }
+    return cases;
+  };
+  const std::vector<Case> cases = prepare({});
+  std::vector<std::vector<Case>> variant_cases;
+  for (const auto& v : options.variants) variant_cases.push_back(prepare(v.sets));
   create_directories_or_throw(options.output_dir);
-  for (std::size_t k = 0; k < names.size(); ++k) {
-    const std::string& name = names[k];
-    const Case& c = cases[k];
-    RunOptions run;
-    run.output_dir = options.output_dir / "runs" / name;
-    run.threads = options.threads;
-    run.progress = options.progress;
-    log << fmt::format("validate: running {} at dx = {:.4g} m into {}\n", name, c.dx, run.output_dir.string()) << std::flush;
-    const RunResult rr = run_case(c, run, log);
-    ValidationResult result = name == "martin_moyce"    ? evaluate_martin_moyce(c, run.output_dir, bounds)
-                              : name == "koshizuka_oka" ? evaluate_koshizuka_oka(c, run.output_dir, bounds)
-                              : name == "buchner"       ? evaluate_buchner(c, run.output_dir, bounds)
-                                                        : evaluate_spheric2(c, run.output_dir, bounds);
-    result.particles = rr.particles;
-    result.fluid_particles = rr.final.fluid_particles;
-    result.steps = rr.final.step;
-    result.leaks = rr.final.leaks;
-    result.outflow = rr.final.outflow;
-    result.wall_seconds = rr.wall_seconds;
-    log << fmt::format("validate: {} done in {:.1f} s ({} particles, {} steps, {} leaks, {} outflow)\n", name,
-                       rr.wall_seconds, rr.particles, rr.final.step, rr.final.leaks, rr.final.outflow)
-        << std::flush;
-    report.results.push_back(std::move(result));
-  }
+  const auto run_all = [&](const std::vector<Case>& set, const fs::path& runs_dir, const std::string& label) {
+    std::vector<ValidationResult> results;
+    for (std::size_t k = 0; k < names.size(); ++k)
+      results.push_back(run_and_evaluate(names[k], set[k], runs_dir / names[k], label, bounds, options, log));
+    return results;
+  };
+  report.results = run_all(cases, options.output_dir / "runs", "");
+  for (std::size_t k = 0; k < options.variants.size(); ++k)
+    report.variants.push_back({options.variants[k], run_all(variant_cases[k],
+                                                            options.output_dir / "variants" / options.variants[k].label / "runs",
+                                                            options.variants[k].label)});
   write_file_atomic(options.output_dir / "report.html", validation_html(report, options.command_line));
   write_file_atomic(options.output_dir / "validation.csv", validation_csv(report));
   write_file_atomic(options.output_dir / "checks.csv", checks_csv(report));
   return report;
 }
+
+namespace {
+
+// Runs one validation case into run_dir and evaluates it against its data.
+ValidationResult run_and_evaluate(const std::string& name, const Case& c, const fs::path& run_dir,
+                                  const std::string& label, const ValidationBounds& bounds,
+                                  const ValidationOptions& options, std::ostream& log) {
+  RunOptions run;
+  run.output_dir = run_dir;
+  run.threads = options.threads;
+  run.progress = options.progress;
+  const std::string what = label.empty() ? name : fmt::format("{} ({})", name, label);
+  log << fmt::format("validate: running {} at dx = {:.4g} m into {}\n", what, c.dx, run.output_dir.string()) << std::flush;
+  const RunResult rr = run_case(c, run, log);
+  ValidationResult result = name == "martin_moyce"    ? evaluate_martin_moyce(c, run.output_dir, bounds)
+                            : name == "koshizuka_oka" ? evaluate_koshizuka_oka(c, run.output_dir, bounds)
+                            : name == "buchner"       ? evaluate_buchner(c, run.output_dir, bounds)
+                                                      : evaluate_spheric2(c, run.output_dir, bounds);
+  result.particles = rr.particles;
+  result.fluid_particles = rr.final.fluid_particles;
+  result.steps = rr.final.step;
+  result.leaks = rr.final.leaks;
+  result.outflow = rr.final.outflow;
+  result.wall_seconds = rr.wall_seconds;
+  log << fmt::format("validate: {} done in {:.1f} s ({} particles, {} steps, {} leaks, {} outflow)\n", what,
+                     rr.wall_seconds, rr.particles, rr.final.step, rr.final.leaks, rr.final.outflow)
+      << std::flush;
+  return result;
+}
+
+}  // namespace
 
 }  // namespace sluice::analysis

@@ -100,6 +100,18 @@ std::string settings_of(const Case& c);
 // The impact time: the first time a pressure signal reaches `level` (p*), interpolated.
 inline constexpr double impact_pressure_level = 0.25;
 
+// The cases run again with other settings, reported beside the main run (sluice validate --compare):
+// e.g. another wall treatment beside the default one.
+struct ValidationVariant {
+  std::string label;              // names its column and its directory, variants/<label>/
+  std::vector<std::string> sets;  // key=value overrides, applied after the main run's
+};
+
+// A --compare argument, "LABEL: KEY=VALUE; KEY=VALUE ...", as a variant. Throws AnalysisError naming
+// what is wrong: no label or no override, or a label that is not a plain name (letters, digits, and
+// . _ + -).
+ValidationVariant parse_variant(const std::string& text);
+
 struct ValidationOptions {
   bool quick = false;
   std::filesystem::path output_dir;        // holds report.html, validation.csv and runs/<case>/
@@ -108,12 +120,18 @@ struct ValidationOptions {
   std::vector<std::string> cases;          // empty: the 2D cases, and with `three_d` the 3D one
   bool three_d = false;                    // also the 3D case (spheric2)
   std::vector<std::string> sets;           // key=value overrides applied to every case (after --quick's dx)
+  std::vector<ValidationVariant> variants;  // every case run again with each, after `sets` (distinct labels)
   std::string command_line;                // recorded in the report
 };
 
 struct ValidationReport {
   bool quick = false;
-  std::vector<ValidationResult> results;
+  std::vector<ValidationResult> results;  // the main run's, which the checks (and the exit status) are of
+  struct Variant {
+    ValidationVariant variant;
+    std::vector<ValidationResult> results;  // in the order of `results`
+  };
+  std::vector<Variant> variants;
   [[nodiscard]] bool passed() const;
 };
 

@@ -115,7 +115,7 @@ int convergence(const ConvergenceArgs& a) {
 struct ValidateArgs {
   bool quick = false, quiet = false, three_d = false;
   std::string output;
-  std::vector<std::string> cases, sets;
+  std::vector<std::string> cases, sets, compare;
   int threads = 0;
 };
 
@@ -125,6 +125,17 @@ int validate(const ValidateArgs& a) {
   o.cases = a.cases;
   o.three_d = a.three_d;
   o.sets = a.sets;
+  for (const auto& text : a.compare) {
+    try {
+      o.variants.push_back(analysis::parse_variant(text));
+    } catch (const analysis::AnalysisError& e) {
+      throw BadInput(e.what());
+    }
+    for (std::size_t q = 0; q + 1 < o.variants.size(); ++q)
+      if (o.variants[q].label == o.variants.back().label)
+        throw BadInput(fmt::format("--compare '{}': the label '{}' is given twice; each variant needs its own",
+                                   text, o.variants.back().label));
+  }
   for (const auto& name : o.cases)
     if (std::find(analysis::validation_case_names().begin(), analysis::validation_case_names().end(), name) ==
         analysis::validation_case_names().end())
@@ -136,6 +147,7 @@ int validate(const ValidateArgs& a) {
   o.command_line = std::string("sluice validate") + (a.quick ? " --quick" : "") + (a.three_d ? " --3d" : "");
   for (const auto& name : a.cases) o.command_line += " --case " + name;
   for (const auto& set : a.sets) o.command_line += " --set " + set;
+  for (const auto& text : a.compare) o.command_line += " --compare '" + text + "'";
   const analysis::ValidationReport report = analysis::run_validation(o, std::cerr);
   std::cout << analysis::validation_table(report);
   std::cout << fmt::format("wrote {}, validation.csv and checks.csv\n", (o.output_dir / "report.html").string());
@@ -202,6 +214,11 @@ Command add_validate_command(CLI::App& app) {
   cmd->add_option("--set", args->sets,
                   "Override a case key in every validation case, e.g. --set physics.wall_boundary=adami (repeatable; "
                   "applied after --quick's resolution)")
+      ->allow_extra_args(false);
+  cmd->add_option("--compare", args->compare,
+                  "Also run every case with other settings and report them side by side (repeatable): 'LABEL: "
+                  "KEY=VALUE; KEY=VALUE ...', e.g. --compare 'mdbc: physics.wall_boundary=mdbc'; the checks stay the "
+                  "main run's")
       ->allow_extra_args(false);
   cmd->add_option("--threads", args->threads, "Threads per run (default: all cores)")->check(CLI::Range(1, 1024));
   cmd->add_flag("-q,--quiet", args->quiet, "No progress lines");
