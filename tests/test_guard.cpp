@@ -7,7 +7,10 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <limits>
 #include <sstream>
+#include <type_traits>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -15,6 +18,7 @@
 #include "sluice/io/checkpoint.hpp"
 #include "sluice/io/frames.hpp"
 #include "sluice/io/run.hpp"
+#include "sluice/simulation.hpp"
 
 using namespace sluice;
 namespace fs = std::filesystem;
@@ -88,4 +92,49 @@ TEST(InstabilityGuard, TheCommandLineExitsNonZeroWithTheMessage) {
   EXPECT_TRUE(fs::exists(dir / "checkpoint.bin"));
   fs::remove_all(dir);
   fs::remove(dir.string() + ".out");
+}
+
+// Each kind of bad particle, alone, is counted and named: a density, position or velocity that is
+// not finite, a particle far above an open tank or beside it, a density outside (0.5, 2) rho0. The
+// guard's test runs on every particle at every step (branch-free); a healthy state passes it.
+TEST(InstabilityGuard, NamesEachKindOfBadParticle) {
+  Case c = *load_builtin_case("dam_break");
+  apply_override(c, "domain.dx=0.2");
+  const Simulation start(c, 1);
+  const Particles<2> healthy = start.visit([](const auto& s) -> Particles<2> {
+    if constexpr (std::is_same_v<std::decay_t<decltype(s.particles())>, Particles<2>>) return s.particles();
+    else return {};
+  });
+  ASSERT_GT(healthy.size(), 10u);
+  EXPECT_TRUE(start.check_health().ok());
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  const double rho0 = c.rest_density, width = c.tank_width, height = c.tank_height;
+  using Spoil = std::function<void(Particles<2>&, std::size_t)>;
+  const struct {
+    const char* what;
+    Spoil spoil;
+    const char* reason;
+  } bad[] = {
+      {"density NaN", [&](Particles<2>& p, std::size_t i) { p.density[i] = nan; }, "not finite"},
+      {"x infinite", [&](Particles<2>& p, std::size_t i) { p.position[0][i] = inf; }, "not finite"},
+      {"vy NaN", [&](Particles<2>& p, std::size_t i) { p.velocity[1][i] = nan; }, "not finite"},
+      {"vx -inf", [&](Particles<2>& p, std::size_t i) { p.velocity[0][i] = -inf; }, "not finite"},
+      {"far above the tank", [&](Particles<2>& p, std::size_t i) { p.position[1][i] = 12.0 * height; },
+       "far outside the tank"},
+      {"beside the tank", [&](Particles<2>& p, std::size_t i) { p.position[0][i] = width + 5.0; }, "far outside the tank"},
+      {"density 2.5 rho0", [&](Particles<2>& p, std::size_t i) { p.density[i] = 2.5 * rho0; },
+       "density outside (0.5, 2) rho0"},
+      {"density 0.4 rho0", [&](Particles<2>& p, std::size_t i) { p.density[i] = 0.4 * rho0; },
+       "density outside (0.5, 2) rho0"},
+  };
+  for (const auto& b : bad) {
+    Particles<2> p = healthy;
+    const std::size_t i = p.size() / 2;
+    b.spoil(p, i);
+    const Simulation spoiled(c, AnyParticles(std::move(p)), start.clock(), 1);
+    const Health h = spoiled.check_health();
+    EXPECT_EQ(h.offending, 1u) << b.what;
+    ASSERT_EQ(h.first.size(), 1u) << b.what;
+    EXPECT_EQ(h.first[0].reason, std::string(b.reason)) << b.what;
+  }
 }

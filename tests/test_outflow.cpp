@@ -89,7 +89,7 @@ TEST(Outflow, WaterThatGoesOverAnOpenTanksWallIsRemovedAndCounted) {
   EXPECT_EQ(d.outflow, sim.clock().outflow);
   EXPECT_EQ(d.fluid_particles + outflow, fluid);
   sim.visit([&](const auto& solver) {
-    for (std::size_t i = 0; i < p.size(); ++i) EXPECT_TRUE(solver.in_reach(i, solver.reach_margin()) && solver.within_walls(i, solver.reach_margin())) << "particle " << p.id[i];
+    for (std::size_t i = 0; i < p.size(); ++i) EXPECT_TRUE(solver.in_reach(i, solver.reach()) && solver.within_walls(i, solver.reach())) << "particle " << p.id[i];
   });
 
   // A frame holds the particles that remain, in increasing id order (the ids of those gone missing),

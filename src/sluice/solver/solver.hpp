@@ -158,16 +158,30 @@ class Solver {
   // 0.5 rho0 < rho < 2 rho0. Water that leaves an open tank has been removed before (finish_step).
   [[nodiscard]] Health check_health(std::size_t max_reported) const;
 
-  // Within the walls' reach: sideways inside the walls' outer faces plus a margin of 4h, and above the
-  // floor's underside less that margin. Water can leave it only over the walls of an open tank (or
-  // through a wall, when a run has gone unstable).
-  [[nodiscard]] bool within_walls(std::size_t i, double margin) const;
-  // The tank's reach: within the walls' reach, and no higher than the lid plus that margin or, above
-  // an open tank, ten times the tank's height (a jet thrown up falls back; one thrown that high is
-  // taken for an instability).
-  [[nodiscard]] bool in_reach(std::size_t i, double margin) const;
-  // The margin of within_walls and in_reach: the wall layers and 4h.
-  [[nodiscard]] double reach_margin() const;
+  // The bounds of within_walls and in_reach, made once for a pass over the particles. The walls'
+  // reach: sideways inside the walls' outer faces plus a margin (the wall layers and 4h), and above
+  // the floor's underside less that margin; water can leave it only over the walls of an open tank (or
+  // through a wall, when a run has gone unstable). The tank's reach: within the walls' reach, and no
+  // higher than the lid plus that margin or, above an open tank, ten times the tank's height (a jet
+  // thrown up falls back; one thrown that high is taken for an instability).
+  static constexpr double kLargest = std::numeric_limits<double>::max();  // |x| <= it: x is finite
+  struct Reach {
+    Vec<Dim> lower{}, upper{};  // the walls' reach: lower <= x, and x <= upper along all but the vertical
+    double top = 0.0;           // the tank's reach: also x[vertical] <= top
+  };
+  [[nodiscard]] Reach reach() const;
+  // Branch-free, so that the passes over every particle at every step vectorise. A coordinate that is
+  // not finite is outside either.
+  [[nodiscard]] bool within_walls(std::size_t i, const Reach& r) const {
+    constexpr int up = Dim - 1;
+    bool inside = particles_.position[up][i] >= r.lower[up];
+    for (int d = 0; d < up; ++d)
+      inside = inside & (particles_.position[d][i] >= r.lower[d]) & (particles_.position[d][i] <= r.upper[d]);
+    return inside;
+  }
+  [[nodiscard]] bool in_reach(std::size_t i, const Reach& r) const {
+    return within_walls(i, r) & (particles_.position[Dim - 1][i] <= r.top);
+  }
 
   // Returns to the state at the start of the last step (if it got far enough to change anything),
   // for the instability guard and after a failure mid-step; drops the ghosts of a step cut short.
