@@ -155,9 +155,12 @@ TEST(QuickValidation, ReportsVariantsBesideTheMainRun) {
   const std::string html = read_text(dir / "out" / "report.html");
   EXPECT_NE(html.find("<th>RMS, mdbc</th>"), std::string::npos);
   EXPECT_NE(html.find("Variant mdbc: physics.wall_boundary=mdbc"), std::string::npos);
+  // One plot, the main run's, with the variant's curve drawn dashed on it and named in its legend.
   std::size_t figures = 0;
   for (auto pos = html.find("<svg"); pos != std::string::npos; pos = html.find("<svg", pos + 1)) ++figures;
-  EXPECT_EQ(figures, 2u);
+  EXPECT_EQ(figures, 1u);
+  EXPECT_NE(html.find("stroke-dasharray"), std::string::npos);
+  EXPECT_NE(html.find(">mdbc</text>"), std::string::npos);
   const std::string table = read_text(dir / "stdout.txt");
   EXPECT_NE(table.find("mdbc = physics.wall_boundary=mdbc"), std::string::npos) << table;
   EXPECT_NE(table.find(fmt::format("{:.3f}", variant.at("buchner.pressure").first)), std::string::npos) << table;

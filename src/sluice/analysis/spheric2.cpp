@@ -73,8 +73,10 @@ Figure signal_figure(const Signal& s, const Case& c, const Series& sim, const Se
   if (sim_hi > plot.y_range->second || sim_lo < plot.y_range->first)
     cut = fmt::format(" The simulation's values run from {:.3g} to {:.3g} {}; those beyond the axis are cut at its edge.",
                       sim_lo, sim_hi, s.unit);
-  return {svg_plot(plot), fmt::format("{} against the experiment (grey, the raw 1 ms record).{} Data: {}", s.quantity, cut,
-                                      table.comments.empty() ? std::string() : table.comments.front())};
+  return {plot,
+          fmt::format("{} against the experiment (grey, the raw 1 ms record).{} Data: {}", s.quantity, cut,
+                      table.comments.empty() ? std::string() : table.comments.front()),
+          1};
 }
 
 // P1's impact: the first time it reaches a quarter of rho g H; and its peak.

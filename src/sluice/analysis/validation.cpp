@@ -217,7 +217,7 @@ Figure front_figure(const FrontCase& fc, const Case& c, double length, const Ser
   plot.bands = {{0.0, fc.t_window, fmt::format("RMS window T <= {:g}", fc.t_window)}};
   plot.x_range = {{0.0, t_max}};
   plot.y_range = {{0.5, std::max(5.0, std::ceil(reference.y.back() + 1.0))}};
-  return {svg_plot(plot), fmt::format("Front position against {} (markers). Data: {}", fc.data_label, provenance(data))};
+  return {plot, fmt::format("Front position against {} (markers). Data: {}", fc.data_label, provenance(data)), 0};
 }
 
 // The column the front data are for: twice as high as wide, in the corner, gravity straight down.
@@ -293,8 +293,10 @@ ValidationResult evaluate_martin_moyce(const Case& c, const fs::path& run_dir, c
   plot.legend = Plot::LegendAt::top_right;
   plot.x_range = {{0.0, std::ceil(reference.t.back())}};
   plot.y_range = {{0.0, 1.05}};
-  r.figures.push_back({svg_plot(plot), "Height of the water at the back wall (top of the highest fluid particle within the "
-                                       "gauge's band, 0.1a, of the wall). Data: " + provenance(data)});
+  r.figures.push_back({plot,
+                       "Height of the water at the back wall (top of the highest fluid particle within the gauge's band, "
+                       "0.1a, of the wall). Data: " + provenance(data),
+                       0});
   return r;
 }
 
@@ -317,9 +319,10 @@ Figure buchner_figure(const Case& c, double height, const Series& pressure, cons
   double p_max = 1.0;
   for (double p : pressure.y) p_max = std::max(p_max, p);
   plot.y_range = {{-0.5, std::min(3.0, std::ceil(p_max * 2.0) / 2.0)}};
-  return {svg_plot(plot), "Pressure at the probe: kernel-weighted (Shepard-normalised) pressure of the fluid "
-                          "particles within 2h of the point (5.366H, 0.2H) on the far wall. Data: " +
-                              provenance(data)};
+  return {plot,
+          "Pressure at the probe: kernel-weighted (Shepard-normalised) pressure of the fluid particles within 2h of "
+          "the point (5.366H, 0.2H) on the far wall. Data: " + provenance(data),
+          0};
 }
 
 // The impact time check; returns the simulated impact time, if the pressure reached the level.
@@ -559,10 +562,31 @@ std::string validation_html(const ValidationReport& report, const std::string& c
   html.table({"requirement", "value", "bound", "result"}, rows);
 
   const auto sections = [&](const std::vector<ValidationResult>& results, const std::string& variant) {
-    for (const auto& r : results) {
+    for (std::size_t k = 0; k < results.size(); ++k) {
+      const ValidationResult& r = results[k];
       html.heading(variant.empty() ? r.title : fmt::format("{} ({})", r.title, variant), variant.empty() ? 2 : 3);
       html.table({"", ""}, run_rows(r));
-      for (const auto& f : r.figures) html.figure(f.svg, f.caption);
+      // The main run's plots carry the variants' curves too (dashed); a variant's section has none.
+      if (variant.empty())
+        for (std::size_t f = 0; f < r.figures.size(); ++f) {
+          const Figure& figure = r.figures[f];
+          Plot plot = figure.plot;
+          std::string caption = figure.caption;
+          // Colours the main run's plots do not use (its curve, the data, Ritter's front).
+          static const char* const variant_colours[] = {"#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#17becf"};
+          for (std::size_t q = 0; q < report.variants.size(); ++q) {
+            const auto& v = report.variants[q];
+            if (k >= v.results.size() || f >= v.results[k].figures.size()) continue;
+            const Figure& other = v.results[k].figures[f];
+            PlotSeries s = other.plot.series.at(other.simulated);
+            s.label = v.variant.label;
+            s.colour = variant_colours[q % std::size(variant_colours)];
+            s.dashed = true;
+            plot.series.push_back(std::move(s));
+          }
+          if (!report.variants.empty()) caption += " Dashed: the variants of --compare, named in the legend.";
+          html.figure(svg_plot(plot), caption);
+        }
       html.table({"quantity", "reference", "window", "points", "RMS", "max |diff|", "mean diff"}, comparison_rows(r));
       if (!variant.empty()) {
         std::vector<std::vector<std::string>> checks;

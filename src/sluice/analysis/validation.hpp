@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "sluice/analysis/series.hpp"
+#include "sluice/analysis/svg_plot.hpp"
 #include "sluice/case/case.hpp"
 #include "sluice/io/run.hpp"
 
@@ -41,9 +42,12 @@ struct Comparison {
   Difference difference;
 };
 
+// A plot of a simulated curve against data, drawn (svg_plot) when the report is written, so that
+// the --compare variants' curves can join it.
 struct Figure {
-  std::string svg;
+  Plot plot;
   std::string caption;
+  std::size_t simulated = 0;  // the simulated curve's index in plot.series
 };
 
 struct ValidationResult {
