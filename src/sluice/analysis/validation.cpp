@@ -60,6 +60,14 @@ ValidationVariant parse_variant(const std::string& text) {
   return v;
 }
 
+void check_variant_labels(const std::vector<ValidationVariant>& variants) {
+  for (std::size_t k = 0; k < variants.size(); ++k)
+    for (std::size_t q = 0; q < k; ++q)
+      if (variants[q].label == variants[k].label)
+        throw AnalysisError(fmt::format("--compare: the label '{}' is given twice; each variant needs its own",
+                                        variants[k].label));
+}
+
 ValidationBounds full_bounds() {
   // The targets of the validation issue: PySPH's WCSPH dam break is at RMS dZ = 0.27 against Martin & Moyce.
   return {.mm_front_rms = 0.25, .mm_height_rms = 0.0, .ko_front_rms = 0.0, .buchner_pressure_rms = 0.20,
@@ -472,6 +480,13 @@ std::vector<std::vector<std::string>> run_rows(const ValidationResult& r) {
           {"physics", r.settings}};
 }
 
+std::vector<std::vector<std::string>> check_rows(const ValidationResult& r) {
+  std::vector<std::vector<std::string>> rows;
+  for (const auto& c : r.checks)
+    rows.push_back({c.what, number(c.value), fmt::format("{:g}", c.bound), c.passed() ? "PASS" : "FAIL"});
+  return rows;
+}
+
 std::vector<std::vector<std::string>> comparison_rows(const ValidationResult& r) {
   std::vector<std::vector<std::string>> cmp;
   for (const auto& c : r.comparisons)
@@ -556,8 +571,7 @@ std::string validation_html(const ValidationReport& report, const std::string& c
   }
   rows.clear();
   for (const auto& r : report.results)
-    for (const auto& c : r.checks)
-      rows.push_back({c.what, number(c.value), fmt::format("{:g}", c.bound), c.passed() ? "PASS" : "FAIL"});
+    for (auto& row : check_rows(r)) rows.push_back(std::move(row));
   html.paragraph(report.quick ? "Accuracy bounds at the quick (coarse) resolution:" : "Accuracy targets:");
   html.table({"requirement", "value", "bound", "result"}, rows);
 
@@ -588,12 +602,7 @@ std::string validation_html(const ValidationReport& report, const std::string& c
           html.figure(svg_plot(plot), caption);
         }
       html.table({"quantity", "reference", "window", "points", "RMS", "max |diff|", "mean diff"}, comparison_rows(r));
-      if (!variant.empty()) {
-        std::vector<std::vector<std::string>> checks;
-        for (const auto& c : r.checks)
-          checks.push_back({c.what, number(c.value), fmt::format("{:g}", c.bound), c.passed() ? "PASS" : "FAIL"});
-        html.table({"requirement, for comparison", "value", "bound", "result"}, checks);
-      }
+      if (!variant.empty()) html.table({"requirement, for comparison", "value", "bound", "result"}, check_rows(r));
       for (const auto& n : r.notes) html.paragraph(n);
     }
   };
@@ -603,73 +612,6 @@ std::string validation_html(const ValidationReport& report, const std::string& c
     sections(v.results, v.variant.label);
   }
   return html.html();
-}
-
-namespace {
-ValidationResult run_and_evaluate(const std::string& name, const Case& c, const fs::path& run_dir,
-                                  const std::string& label, const ValidationBounds& bounds,
-                                  const ValidationOptions& options, std::ostream& log);
-}  // namespace
-
-ValidationReport run_validation(const ValidationOptions& options, std::ostream& log) {
-  std::vector<std::string> names = options.cases;
-  if (names.empty()) {
-    names = default_validation_cases();
-    if (options.three_d) names.push_back("spheric2");
-  }
-  for (const auto& n : names)
-    if (std::find(validation_case_names().begin(), validation_case_names().end(), n) == validation_case_names().end())
-      throw AnalysisError(fmt::format("no validation case '{}'; the cases are {}", n, fmt::join(validation_case_names(), ", ")));
-  const ValidationBounds bounds = options.quick ? quick_bounds() : full_bounds();
-  ValidationReport report;
-  report.quick = options.quick;
-  for (std::size_t k = 0; k < options.variants.size(); ++k)
-    for (std::size_t q = 0; q < k; ++q)
-      if (options.variants[q].label == options.variants[k].label)
-        throw AnalysisError(fmt::format("--compare: the label '{}' is given twice", options.variants[k].label));
-  // Every case is prepared (and the overrides checked) before anything runs or is written: the main
-  // run's, then each variant's.
-  const auto prepare = [&](const std::vector<std::string>& variant_sets) {
-    std::vector<Case> cases;
-    for (const std::string& name : names) {
-      auto loaded = load_builtin_case(name);
-      if (!loaded) throw AnalysisError(fmt::format("the built-in case '{}' is missing from this build", name));
-      Case c = *loaded;
-      if (options.quick) {
-        const double length = unit_length(name, c);
-        apply_overrides(c, {fmt::format("domain.dx={:.17g}", length / quick_resolution(name))});
-      }
-      apply_overrides(c, options.sets);
-      apply_overrides(c, variant_sets);
-      // A case changed so that its data no longer apply is bad input, found before hours of running.
-      try {
-        check_validation_case(name, c);
-      } catch (const AnalysisError& e) {
-        throw CaseError(e.what());
-      }
-      cases.push_back(std::move(c));
-    }
-    return cases;
-  };
-  const std::vector<Case> cases = prepare({});
-  std::vector<std::vector<Case>> variant_cases;
-  for (const auto& v : options.variants) variant_cases.push_back(prepare(v.sets));
-  create_directories_or_throw(options.output_dir);
-  const auto run_all = [&](const std::vector<Case>& set, const fs::path& runs_dir, const std::string& label) {
-    std::vector<ValidationResult> results;
-    for (std::size_t k = 0; k < names.size(); ++k)
-      results.push_back(run_and_evaluate(names[k], set[k], runs_dir / names[k], label, bounds, options, log));
-    return results;
-  };
-  report.results = run_all(cases, options.output_dir / "runs", "");
-  for (std::size_t k = 0; k < options.variants.size(); ++k)
-    report.variants.push_back({options.variants[k], run_all(variant_cases[k],
-                                                            options.output_dir / "variants" / options.variants[k].label / "runs",
-                                                            options.variants[k].label)});
-  write_file_atomic(options.output_dir / "report.html", validation_html(report, options.command_line));
-  write_file_atomic(options.output_dir / "validation.csv", validation_csv(report));
-  write_file_atomic(options.output_dir / "checks.csv", checks_csv(report));
-  return report;
 }
 
 namespace {
@@ -702,5 +644,69 @@ ValidationResult run_and_evaluate(const std::string& name, const Case& c, const 
 }
 
 }  // namespace
+
+ValidationReport run_validation(const ValidationOptions& options, std::ostream& log) {
+  std::vector<std::string> names = options.cases;
+  if (names.empty()) {
+    names = default_validation_cases();
+    if (options.three_d) names.push_back("spheric2");
+  }
+  for (const auto& n : names)
+    if (std::find(validation_case_names().begin(), validation_case_names().end(), n) == validation_case_names().end())
+      throw AnalysisError(fmt::format("no validation case '{}'; the cases are {}", n, fmt::join(validation_case_names(), ", ")));
+  const ValidationBounds bounds = options.quick ? quick_bounds() : full_bounds();
+  ValidationReport report;
+  report.quick = options.quick;
+  check_variant_labels(options.variants);
+  // Every case is prepared (and the overrides checked) before anything runs or is written: the main
+  // run's, then each variant's.
+  const auto prepare = [&](const ValidationVariant* variant) {
+    std::vector<Case> cases;
+    for (const std::string& name : names) {
+      auto loaded = load_builtin_case(name);
+      if (!loaded) throw AnalysisError(fmt::format("the built-in case '{}' is missing from this build", name));
+      Case c = *loaded;
+      if (options.quick) {
+        const double length = unit_length(name, c);
+        apply_overrides(c, {fmt::format("domain.dx={:.17g}", length / quick_resolution(name))});
+      }
+      apply_overrides(c, options.sets);
+      if (variant) {
+        try {
+          apply_overrides(c, variant->sets);
+        } catch (const CaseError& e) {  // says --set: name the variant the user wrote
+          throw CaseError(fmt::format("--compare '{}': {}", variant->label, e.what()));
+        }
+      }
+      // A case changed so that its data no longer apply is bad input, found before hours of running.
+      try {
+        check_validation_case(name, c);
+      } catch (const AnalysisError& e) {
+        throw CaseError(variant ? fmt::format("--compare '{}': {}", variant->label, e.what()) : std::string(e.what()));
+      }
+      cases.push_back(std::move(c));
+    }
+    return cases;
+  };
+  const std::vector<Case> cases = prepare(nullptr);
+  std::vector<std::vector<Case>> variant_cases;
+  for (const auto& v : options.variants) variant_cases.push_back(prepare(&v));
+  create_directories_or_throw(options.output_dir);
+  const auto run_all = [&](const std::vector<Case>& set, const fs::path& runs_dir, const std::string& label) {
+    std::vector<ValidationResult> results;
+    for (std::size_t k = 0; k < names.size(); ++k)
+      results.push_back(run_and_evaluate(names[k], set[k], runs_dir / names[k], label, bounds, options, log));
+    return results;
+  };
+  report.results = run_all(cases, options.output_dir / "runs", "");
+  for (std::size_t k = 0; k < options.variants.size(); ++k)
+    report.variants.push_back({options.variants[k], run_all(variant_cases[k],
+                                                            options.output_dir / "variants" / options.variants[k].label / "runs",
+                                                            options.variants[k].label)});
+  write_file_atomic(options.output_dir / "report.html", validation_html(report, options.command_line));
+  write_file_atomic(options.output_dir / "validation.csv", validation_csv(report));
+  write_file_atomic(options.output_dir / "checks.csv", checks_csv(report));
+  return report;
+}
 
 }  // namespace sluice::analysis

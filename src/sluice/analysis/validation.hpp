@@ -115,6 +115,8 @@ struct ValidationVariant {
 // what is wrong: no label or no override, or a label that is not a plain name (letters, digits, and
 // . _ + -).
 ValidationVariant parse_variant(const std::string& text);
+// Throws AnalysisError if two variants share a label (their runs would share a directory).
+void check_variant_labels(const std::vector<ValidationVariant>& variants);
 
 struct ValidationOptions {
   bool quick = false;

@@ -128,13 +128,10 @@ int validate(const ValidateArgs& a) {
   for (const auto& text : a.compare) {
     try {
       o.variants.push_back(analysis::parse_variant(text));
+      analysis::check_variant_labels(o.variants);
     } catch (const analysis::AnalysisError& e) {
       throw BadInput(e.what());
     }
-    for (std::size_t q = 0; q + 1 < o.variants.size(); ++q)
-      if (o.variants[q].label == o.variants.back().label)
-        throw BadInput(fmt::format("--compare '{}': the label '{}' is given twice; each variant needs its own",
-                                   text, o.variants.back().label));
   }
   for (const auto& name : o.cases)
     if (std::find(analysis::validation_case_names().begin(), analysis::validation_case_names().end(), name) ==

@@ -343,7 +343,6 @@ typename Solver<Dim>::Reach Solver<Dim>::reach() const {
   return r;
 }
 
-
 template <int Dim>
 Diagnostics Solver<Dim>::diagnostics() const {
   Diagnostics d;
