@@ -652,6 +652,21 @@ TEST(CaseValidation, WaterOutsideTank) {
   EXPECT_NO_THROW(parse("[tank]\nwidth = 2.0\nheight = 1.0\n[[water]]\nmin = [0, 0]\nmax = [2.0, 1.0]\n"));
 }
 
+// Water fills the points (i + 1/2) dx inside a region: a box between two of them along an axis would
+// hold none, and the run would start without that water.
+TEST(CaseValidation, WaterBoxThinnerThanTheLattice) {
+  expect_contains(parse_error("[domain]\ndx = 0.1\n[[water]]\nmin = [0.5, 0]\nmax = [0.52, 1]\n"),
+                  {"test.toml: [[water]] number 1 (box from [0.5, 0.0] to [0.52, 1.0])", "holds no water particle",
+                   "domain.dx = 0.1 m", "0.02 m across along x", "expected a region at least dx across"});
+  expect_contains(
+      parse_error("[domain]\ndimension = 3\ndx = 0.1\n[tank]\nwidth = 2.0\ndepth = 1.0\nheight = 1.0\n"
+                  "[[water]]\nmin = [0, 0, 0]\nmax = [1, 1, 1]\n[[water]]\nmin = [0, 0, 0.51]\nmax = [1, 1, 0.54]\n"),
+      {"[[water]] number 2", "along z"});
+  // As thin, but holding a row of points (0.55 is (5 + 1/2) dx), or exactly dx across: accepted.
+  EXPECT_NO_THROW(parse("[domain]\ndx = 0.1\n[[water]]\nmin = [0.54, 0]\nmax = [0.56, 1]\n"));
+  EXPECT_NO_THROW(parse("[domain]\ndx = 0.1\n[[water]]\nmin = [0.5, 0]\nmax = [0.6, 1]\n"));
+}
+
 TEST(CaseValidation, MinNotBelowMax) {
   expect_contains(parse_error("[[water]]\nmin = [1, 0]\nmax = [0.5, 1]\n"),
                   {"[[water]] number 1", "min [1.0, 0.0] must be below max [0.5, 1.0]"});

@@ -8,6 +8,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "sluice/case/case_error.hpp"
 #include "sluice/case/params.hpp"
 #include "sluice/geometry/box.hpp"
 #include "sluice/geometry/leaks.hpp"
@@ -359,6 +360,42 @@ Case box_tank_3d(double dx) {
                         "\n[tank]\nwidth = 1.0\ndepth = 0.6\nheight = 0.8\n"
                         "[[water]]\nmin = [0, 0, 0]\nmax = [0.4, 0.6, 0.5]\n",
                     "3D box tank");
+}
+
+// A region the lattice fills with more than 1 % less (or more) water than it holds gets a note
+// saying how much; one it fills exactly gets none, and neither does one a solid takes part of.
+TEST(Setup, ANoteSaysHowMuchLessWaterTheLatticeHolds) {
+  // 0.4 x 0.6 x 0.5 m at dx = 0.1: 4 x 6 x 5 points, exactly the box.
+  EXPECT_TRUE(build_setup<3>(box_tank_3d(0.1)).notes.empty());
+  // At dx = 0.12: 3 x 5 x 4 points hold 0.10368 m^3 of the box's 0.12, 13.6 % less.
+  const sluice::Setup<3> s = build_setup<3>(box_tank_3d(0.12));
+  ASSERT_EQ(s.notes.size(), 1u);
+  for (const char* part : {"[[water]] number 1 (box from [0, 0, 0] to [0.4, 0.6, 0.5])", "60 particles",
+                           "0.1037 m^3", "13.6 % less than the region's 0.12 m^3", "domain.dx = 0.12 m"})
+    EXPECT_NE(s.notes[0].find(part), std::string::npos) << part << " not in: " << s.notes[0];
+  // Overlapping regions: the points met twice are removed, and a note counts them.
+  Case twice = box_tank_3d(0.1);
+  twice.water.push_back(twice.water[0]);
+  const sluice::Setup<3> merged = build_setup<3>(twice);
+  ASSERT_EQ(merged.notes.size(), 1u);
+  EXPECT_NE(merged.notes[0].find("120 particles removed at set-up"), std::string::npos) << merged.notes[0];
+}
+
+// A water region that holds no point of the lattice is an error, whatever its shape (a box that thin
+// is already refused by the case checks, with the case file's name).
+TEST(Setup, AWaterRegionWithoutWaterIsAnError) {
+  Case c = box_tank_3d(0.1);
+  c.water[0].min = {0.0, 0.0, 0.0};
+  c.water[0].max = {0.4, 0.6, 0.04};  // below the first layer of points, at 0.05 m
+  try {
+    build_setup<3>(c);
+    ADD_FAILURE() << "expected a CaseError";
+  } catch (const CaseError& e) {
+    const std::string what = e.what();
+    for (const char* part : {"[[water]] number 1 (box from [0, 0, 0] to [0.4, 0.6, 0.04])", "holds no water particle",
+                             "domain.dx = 0.1 m"})
+      EXPECT_NE(what.find(part), std::string::npos) << part << " not in: " << what;
+  }
 }
 
 TEST(Setup, ThreeDimensionalTankHasItsWallLayersOnEveryFaceAndNoDuplicates) {

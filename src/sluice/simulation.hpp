@@ -62,6 +62,9 @@ class Simulation {
   [[nodiscard]] std::size_t removed_near_coincident() const {
     return visit([](const auto& s) { return s.removed_near_coincident(); });
   }
+  [[nodiscard]] const std::vector<std::string>& setup_notes() const {
+    return visit([](const auto& s) -> const std::vector<std::string>& { return s.setup_notes(); });
+  }
   [[nodiscard]] int force_evaluations_per_step() const {
     return visit([](const auto& s) { return s.force_evaluations_per_step(); });
   }

@@ -109,9 +109,26 @@ struct Checker {
 
   void check_water() const {
     if (c.water.empty()) fail("no [[water]] region; a case needs at least one");
-    for (std::size_t i = 0; i < c.water.size(); ++i)
+    for (std::size_t i = 0; i < c.water.size(); ++i) {
       check_inside_tank(region_bounds(c.water[i], "water", i), "water", i,
                         c.water[i].shape == Shape::mesh ? "a mesh " : "");
+      if (c.water[i].shape == Shape::box) check_box_holds_water(c.water[i], i);
+    }
+  }
+
+  // Water fills the lattice points (i + 1/2) dx inside a region (geometry/setup.cpp): a box too thin
+  // to hold one along some axis would start the run without that water.
+  void check_box_holds_water(const Region& r, std::size_t i) const {
+    const double tol = 1e-9 * c.dx;
+    for (int d = 0; d < c.dimension; ++d) {
+      const double first = std::ceil((r.min[d] - tol) / c.dx - 0.5), last = std::floor((r.max[d] + tol) / c.dx - 0.5);
+      if (last < first)
+        fail(fmt::format("[[water]] number {} (box from {} to {}) holds no water particle at domain.dx = {} m: it is "
+                         "{:g} m across along {}, between the points (i + 1/2) dx that water fills; expected a region "
+                         "at least dx across, or a smaller domain.dx",
+                         i + 1, format_vector(r.min, c.dimension), format_vector(r.max, c.dimension), c.dx,
+                         r.max[d] - r.min[d], "xyz"[d]));
+    }
   }
 
   // Boxes and polygons may reach into the tank's walls; a mesh, whose filling is a lattice of its own,

@@ -2,9 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <stdexcept>
+#include <string>
 
+#include <fmt/format.h>
+
+#include "sluice/case/case_error.hpp"
 #include "sluice/geometry/box.hpp"
 #include "sluice/geometry/lattice.hpp"
 #include "sluice/geometry/mesh_solid.hpp"
@@ -78,9 +83,14 @@ void add_tank(Setup<Dim>& s, const Case& c) {
 }
 
 // Water on the lattice (i + 1/2) dx inside the region, outside every solid and at least dx/2 from
-// every solid surface (so at least dx from the first wall layer).
+// every solid surface (so at least dx from the first wall layer). Returns how many points it placed
+// and how many a solid took.
+struct Filled {
+  std::size_t placed = 0, blocked = 0;
+};
 template <int Dim>
-void add_water(Setup<Dim>& s, const Case& c, const Region& r) {
+Filled add_water(Setup<Dim>& s, const Case& c, const Region& r) {
+  Filled n;
   const auto region = region_solid<Dim>(r);
   const double tol = 1e-9 * c.dx;
   Vec<Dim> lo = region->lower(), hi = region->upper();
@@ -93,8 +103,67 @@ void add_water(Setup<Dim>& s, const Case& c, const Region& r) {
     const bool blocked = std::any_of(s.solids.begin(), s.solids.end(), [&](const auto& q) {
       return q->signed_distance(p) < 0.5 * c.dx - tol;
     });
-    if (!blocked) s.particles.add(p, Kind::fluid, c.rest_density);
+    if (blocked) {
+      ++n.blocked;
+      return;
+    }
+    s.particles.add(p, Kind::fluid, c.rest_density);
+    ++n.placed;
   });
+  return n;
+}
+
+// "box from [0, 0] to [1, 2]", "polygon of 5 points", "mesh column.stl".
+std::string describe_region(const Region& r, int dim) {
+  const auto point = [dim](const Vec3& v) {
+    std::string s = "[";
+    for (int d = 0; d < dim; ++d) s += fmt::format("{}{:g}", d > 0 ? ", " : "", v[static_cast<std::size_t>(d)]);
+    return s + "]";
+  };
+  switch (r.shape) {
+    case Shape::polygon: return fmt::format("polygon of {} points", r.points.size());
+    case Shape::mesh: return fmt::format("mesh {}", std::filesystem::path(r.file).filename().string());
+    case Shape::box: break;
+  }
+  return fmt::format("box from {} to {}", point(r.min), point(r.max));
+}
+
+// The region's area (2D) or volume (3D).
+template <int Dim>
+double region_measure(const Region& r) {
+  if constexpr (Dim == 2)
+    if (r.shape == Shape::polygon) return Polygon(r.points).area();
+  if constexpr (Dim == 3)
+    if (r.shape == Shape::mesh && r.mesh != nullptr) return r.mesh->signed_volume();
+  double v = 1.0;
+  for (int d = 0; d < Dim; ++d) v *= r.max[static_cast<std::size_t>(d)] - r.min[static_cast<std::size_t>(d)];
+  return v;
+}
+
+// Every water region must hold water; one that the lattice fills with more than 1 % less (or more)
+// water than it encloses, and meets no solid, gets a note saying so.
+template <int Dim>
+void fill_water(Setup<Dim>& s, const Case& c) {
+  const char* unit = Dim == 2 ? "m^2" : "m^3";
+  for (std::size_t k = 0; k < c.water.size(); ++k) {
+    const Region& r = c.water[k];
+    const Filled n = add_water(s, c, r);
+    const std::string region = fmt::format("[[water]] number {} ({})", k + 1, describe_region(r, Dim));
+    if (n.placed == 0)
+      throw CaseError(fmt::format(
+          "{} holds no water particle at domain.dx = {:g} m: water fills the points (i + 1/2) dx inside a region "
+          "that lie at least dx/2 from every wall{}; expected a region at least dx across, or a smaller domain.dx",
+          region, c.dx, n.blocked > 0 ? fmt::format(" ({} of its points lie closer to a wall or inside one)", n.blocked)
+                                      : ""));
+    if (n.blocked > 0) continue;  // its share of the solids' volume is not known here
+    const double held = static_cast<double>(n.placed) * std::pow(c.dx, Dim), measure = region_measure<Dim>(r);
+    if (measure > 0.0 && std::abs(held / measure - 1.0) > 0.01)
+      s.notes.push_back(fmt::format(
+          "{}: {} particles hold {:.4g} {} of water, {:.1f} % {} than the region's {:.4g} {}: the particles fill "
+          "whole spacings of domain.dx = {:g} m",
+          region, n.placed, held, unit, 100.0 * std::abs(held / measure - 1.0), held < measure ? "less" : "more",
+          measure, unit, c.dx));
+  }
 }
 
 // The offsets of Chebyshev length `off` in Dim - 1 horizontal axes, in lexicographic order.
@@ -258,8 +327,12 @@ Setup<Dim> build_setup(const Case& c) {
     solid->fill_surface_layers(c.dx, layers, [&](const Vec<Dim>& x) { s.particles.add(x, Kind::wall, c.rest_density); });
     s.solids.push_back(solid);
   }
-  for (const Region& r : c.water) add_water(s, c, r);
+  fill_water(s, c);
   s.removed_near_coincident = remove_near_coincident(s.particles, 0.5 * c.dx);
+  if (s.removed_near_coincident > 0)
+    s.notes.push_back(fmt::format("{} particles removed at set-up: points closer than dx/2 to another (where water "
+                                  "regions overlap, or water meets a wall's particles) are kept once",
+                                  s.removed_near_coincident));
   if (c.hydrostatic_start) set_hydrostatic_density(s.particles, c);
   if (c.initial_pressure != 0.0) {
     const TaitEos eos{c.rest_density, c.sound_speed, c.gamma};

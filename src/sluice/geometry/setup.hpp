@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "sluice/case/case.hpp"
@@ -17,6 +18,9 @@ struct Setup {
   Particles<Dim> particles;
   Solids<Dim> solids;  // wall geometry, for leak detection
   std::size_t removed_near_coincident = 0;
+  // What a user should know of how the case was filled: a water region that the lattice fills with
+  // more than 1 % less (or more) water than it holds, near-coincident points removed. Each a sentence.
+  std::vector<std::string> notes;
 };
 
 // Number of wall particle layers: enough to fill a depth of 2h at spacing dx.
@@ -27,6 +31,7 @@ int wall_layers(const Case& c);
 template <int Dim>
 std::shared_ptr<const Solid<Dim>> region_solid(const Region& r);
 
+// Throws CaseError for a water region that holds no point of the lattice.
 template <int Dim>
 Setup<Dim> build_setup(const Case& c);
 

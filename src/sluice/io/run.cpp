@@ -371,7 +371,11 @@ class Run {
         outputs_(*sim_, options.output_dir, fresh_, start.wall_before, options.comm),
         schedule_(sim_->config(), sim_->time()),
         progress_(sim_->is_root() ? options.progress : RunOptions::Progress::none, log, sim_->time(), schedule_.end(),
-                  sim_->particle_count()) {}
+                  sim_->particle_count()) {
+    // The set-up's notes now, before a long run, and again in the summary.
+    if (sim_->is_root() && options.progress != RunOptions::Progress::none)
+      for (const std::string& n : sim_->setup_notes()) log << "sluice: note: " << n << "\n";
+  }
 
   RunResult to_end() {
     sim_->visit([&](const auto& solver) {
@@ -534,6 +538,7 @@ class Run {
     r.single_precision_pairs = c.pair_precision == Precision::single;
     r.output_dir = options_.output_dir;
     r.case_name = c.name;
+    r.notes = sim_->setup_notes();
     r.processes = options_.comm != nullptr ? options_.comm->size() : 1;
     sim_->visit([&](const auto& solver) {
       if (const auto* d = solver.distribution()) {
@@ -623,6 +628,7 @@ std::string format_summary(const RunResult& r) {
   s += fmt::format("  max speed   {:.3f} m/s (c0 = {} m/s)\n", d.max_speed, r.sound_speed);
   s += fmt::format("  all finite  {}\n", d.all_finite ? "yes" : "NO");
   s += fmt::format("  output      {} ({} frames written)\n", r.output_dir.string(), r.frames_written);
+  for (const std::string& n : r.notes) s += fmt::format("  note        {}\n", n);
   return s;
 }
 

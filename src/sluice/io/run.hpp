@@ -75,6 +75,7 @@ struct RunResult {
   double bytes_exchanged = 0.0;
   double exchange_seconds = 0.0;
   double ghost_share = 0.0;  // ghosts per owned particle, all processes, averaged over the evaluations
+  std::vector<std::string> notes;  // the set-up's (Solver::setup_notes), for a run that started the case
 };
 
 // Files a run writes into its output directory.

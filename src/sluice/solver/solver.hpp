@@ -124,6 +124,8 @@ class Solver {
   [[nodiscard]] double smoothing_length() const { return settings_.h; }
   [[nodiscard]] const TaitEos& eos() const { return settings_.eos; }
   [[nodiscard]] std::size_t removed_near_coincident() const { return removed_near_coincident_; }
+  // What the set-up has to tell the user (Setup::notes); none for a solver restarted from a checkpoint.
+  [[nodiscard]] const std::vector<std::string>& setup_notes() const { return setup_notes_; }
   [[nodiscard]] int force_evaluations_per_step() const {
     return case_.integrator == Integrator::predictor_corrector ? 2 : 1;
   }
@@ -244,6 +246,7 @@ class Solver {
   const Reducer* reducer_ = &serial_reducer();
   std::unique_ptr<Distribution<Dim>> distribution_;
   std::size_t removed_near_coincident_ = 0;
+  std::vector<std::string> setup_notes_;
 };
 
 extern template class Solver<2>;

@@ -28,6 +28,7 @@ Solver<Dim>::Solver(const Case& c, int threads, const Communicator* comm) : thre
   particles_.resize(particles_.size());  // size the rate and step-start fields
   solids_ = std::move(s.solids);
   removed_near_coincident_ = s.removed_near_coincident;
+  setup_notes_ = std::move(s.notes);
   init(c);
   distribute(comm);
 }
