@@ -378,7 +378,7 @@ TEST(Setup, ANoteSaysHowMuchLessWaterTheLatticeHolds) {
   twice.water.push_back(twice.water[0]);
   const sluice::Setup<3> merged = build_setup<3>(twice);
   ASSERT_EQ(merged.notes.size(), 1u);
-  EXPECT_NE(merged.notes[0].find("120 particles removed at set-up"), std::string::npos) << merged.notes[0];
+  EXPECT_NE(merged.notes[0].find("120 water particles removed at set-up"), std::string::npos) << merged.notes[0];
 }
 
 // A water region that holds no point of the lattice is an error, whatever its shape (a box that thin

@@ -328,11 +328,19 @@ Setup<Dim> build_setup(const Case& c) {
     s.solids.push_back(solid);
   }
   fill_water(s, c);
+  const auto fluid_count = [&] {
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < s.particles.size(); ++i) n += s.particles.is_fluid(i) ? 1 : 0;
+    return n;
+  };
+  const std::size_t fluid_before = fluid_count();
   s.removed_near_coincident = remove_near_coincident(s.particles, 0.5 * c.dx);
-  if (s.removed_near_coincident > 0)
-    s.notes.push_back(fmt::format("{} particles removed at set-up: points closer than dx/2 to another (where water "
-                                  "regions overlap, or water meets a wall's particles) are kept once",
-                                  s.removed_near_coincident));
+  // Water thinned is water the case asked for; wall points thinned (where a solid's layers meet inside
+  // it) are the wall filling's own business.
+  if (const std::size_t water = fluid_before - fluid_count(); water > 0)
+    s.notes.push_back(fmt::format("{} water particles removed at set-up, each closer than dx/2 to a point that was "
+                                  "kept (where water regions overlap, or water lies on a wall particle)",
+                                  water));
   if (c.hydrostatic_start) set_hydrostatic_density(s.particles, c);
   if (c.initial_pressure != 0.0) {
     const TaitEos eos{c.rest_density, c.sound_speed, c.gamma};
