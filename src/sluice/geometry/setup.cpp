@@ -141,13 +141,15 @@ double region_measure(const Region& r) {
 }
 
 // Every water region must hold water; one that the lattice fills with more than 1 % less (or more)
-// water than it encloses, and meets no solid, gets a note saying so.
+// water than it encloses, and meets no solid, gets a note saying so. Returns the water points placed.
 template <int Dim>
-void fill_water(Setup<Dim>& s, const Case& c) {
+std::size_t fill_water(Setup<Dim>& s, const Case& c) {
+  std::size_t placed = 0;
   const char* unit = Dim == 2 ? "m^2" : "m^3";
   for (std::size_t k = 0; k < c.water.size(); ++k) {
     const Region& r = c.water[k];
     const Filled n = add_water(s, c, r);
+    placed += n.placed;
     const std::string region = fmt::format("[[water]] number {} ({})", k + 1, describe_region(r, Dim));
     if (n.placed == 0)
       throw CaseError(fmt::format(
@@ -164,6 +166,7 @@ void fill_water(Setup<Dim>& s, const Case& c) {
           region, n.placed, held, unit, 100.0 * std::abs(held / measure - 1.0), held < measure ? "less" : "more",
           measure, unit, c.dx));
   }
+  return placed;
 }
 
 // The offsets of Chebyshev length `off` in Dim - 1 horizontal axes, in lexicographic order.
@@ -327,17 +330,13 @@ Setup<Dim> build_setup(const Case& c) {
     solid->fill_surface_layers(c.dx, layers, [&](const Vec<Dim>& x) { s.particles.add(x, Kind::wall, c.rest_density); });
     s.solids.push_back(solid);
   }
-  fill_water(s, c);
-  const auto fluid_count = [&] {
-    std::size_t n = 0;
-    for (std::size_t i = 0; i < s.particles.size(); ++i) n += s.particles.is_fluid(i) ? 1 : 0;
-    return n;
-  };
-  const std::size_t fluid_before = fluid_count();
+  const std::size_t placed = fill_water(s, c);
   s.removed_near_coincident = remove_near_coincident(s.particles, 0.5 * c.dx);
   // Water thinned is water the case asked for; wall points thinned (where a solid's layers meet inside
   // it) are the wall filling's own business.
-  if (const std::size_t water = fluid_before - fluid_count(); water > 0)
+  std::size_t fluid = 0;
+  for (std::size_t i = 0; i < s.particles.size(); ++i) fluid += s.particles.is_fluid(i) ? 1 : 0;
+  if (const std::size_t water = placed - fluid; water > 0)
     s.notes.push_back(fmt::format("{} water particles removed at set-up, each closer than dx/2 to a point that was "
                                   "kept (where water regions overlap, or water lies on a wall particle)",
                                   water));
