@@ -899,8 +899,11 @@ TEST(CaseDimension, ThreeDimensionalCaseReadsThreeComponentVectorsAndZUp) {
 
 TEST(CaseDimension, VectorsMustHaveTheCaseDimension) {
   expect_contains(parse_error("[domain]\ndimension = 3\n[tank]\ndepth = 1.0\n[[water]]\nmin = [0, 0]\nmax = [1, 1]\n"),
-                  {"water[0].max = [ 1, 1 ]", "wrong type (2 components in a 3D case, domain.dimension = 3)",
+                  {"water[0].max = [1, 1]", "wrong type (2 components in a 3D case, domain.dimension = 3)",
                    "expected an array of three numbers [x, y, z] (m)"});
+  // The numbers as written, not in toml++'s round-trip form (0.69999999999999996).
+  expect_contains(parse_error("[domain]\ndimension = 3\n[tank]\ndepth = 1.0\n[[water]]\nmin = [0, 0]\nmax = [0.7, 2.0]\n"),
+                  {"water[0].max = [0.7, 2.0]: wrong type"});
   expect_contains(parse_error("[physics]\ngravity = [0, 0, -9.81]\n" + minimal_water),
                   {"physics.gravity", "3 components in a 2D case", "an array of two numbers [x, y]"});
 }

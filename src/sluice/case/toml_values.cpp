@@ -19,19 +19,35 @@ namespace sluice {
 
 namespace {
 
-// The value as an error message shows it: strings as written in a case file (not toml++'s 'literal'
-// form), anything long cut short.
+// A value as written in a case file: strings quoted (not in toml++'s 'literal' form), numbers in their
+// shortest form that reads back the same (0.7, not toml++'s 0.69999999999999996), arrays element by
+// element.
+std::string value_as_written(const toml::node& n) {
+  if (n.is_table()) return "a table";
+  if (n.is_string()) return quote(n.as_string()->get());
+  if (n.is_floating_point()) {
+    std::string s = fmt::format("{}", n.as_floating_point()->get());
+    if (s.find_first_not_of("-0123456789") == std::string::npos) s += ".0";  // 2.0 as written, not 2
+    return s;
+  }
+  if (n.is_integer()) return fmt::format("{}", n.as_integer()->get());
+  if (n.is_boolean()) return n.as_boolean()->get() ? "true" : "false";
+  if (const toml::array* a = n.as_array()) {
+    std::string s = "[";
+    for (std::size_t k = 0; k < a->size(); ++k) s += (k > 0 ? ", " : "") + value_as_written(*a->get(k));
+    return s + "]";
+  }
+  std::ostringstream out;  // dates and times
+  n.visit([&](const auto& v) { out << v; });
+  return out.str();
+}
+
+// The value as an error message shows it: as written, anything long cut short.
 std::string describe_node(const toml::node& n) {
-  std::ostringstream out;
   if (n.is_table()) return "a table";
   if (n.is_array_of_tables()) return "an array of tables";
-  if (n.is_string()) {
-    std::string s = quote(n.as_string()->get());
-    return s.size() > 60 ? s.substr(0, 56) + "...\"" : s;
-  }
-  n.visit([&](const auto& v) { out << v; });
-  std::string s = out.str();
-  if (s.size() > 60) s = s.substr(0, 57) + "...";
+  std::string s = value_as_written(n);
+  if (s.size() > 60) s = n.is_string() ? s.substr(0, 56) + "...\"" : s.substr(0, 57) + "...";
   return s;
 }
 
