@@ -313,17 +313,20 @@ template <int Dim>
 std::int64_t Solver<Dim>::remove_outflow() {
   if (case_.tank_lid) return 0;
   const std::size_t n = particles_.size();
-  std::vector<std::uint8_t> gone(n, 0);
   const Reach r = reach();
   // A particle that is not finite is the guard's (check_health), not outflow.
-  const auto here = parallel::count<std::int64_t>(static_cast<long>(n), threads_, [&](long k) -> std::int64_t {
-    const auto i = static_cast<std::size_t>(k);
+  const auto leaves = [&](std::size_t i) -> bool {
     bool finite = true;
     for (int d = 0; d < Dim; ++d) finite = finite & (std::abs(particles_.position[d][i]) <= kLargest);
-    gone[i] = particles_.is_fluid(i) & finite & !within_walls(i, r);
-    return gone[i];
+    return particles_.is_fluid(i) & finite & !within_walls(i, r);
+  };
+  // Counted first, a pass that writes nothing (in most steps nothing leaves); marked only then.
+  const auto here = parallel::count<std::int64_t>(static_cast<long>(n), threads_, [&](long k) -> std::int64_t {
+    return leaves(static_cast<std::size_t>(k));
   });
   if (here > 0) {
+    std::vector<std::uint8_t> gone(n, 0);
+    for (std::size_t i = 0; i < n; ++i) gone[i] = leaves(i);
     particles_.erase(gone);
     grid_binned_ = false;
   }
