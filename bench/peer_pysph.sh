@@ -6,8 +6,9 @@
 #       (default 0.5 s of simulated time; PySPH's own is 2.5 s; e.g. --set domain.pair_precision=single)
 #
 # Needs Debian's python3-pysph (apt-get install python3-pysph) and a release build (make build).
-# Speed is particles x force evaluations / wall seconds; PySPH's PECIntegrator evaluates once per
-# step, sluice's predictor-corrector twice, so the fair ratio is per evaluation.
+# Speed is particles x force evaluations / wall seconds, also per fluid particle and over the same
+# simulated time (bench/peer_report.sh); PySPH's PECIntegrator and the mirror's leapfrog both evaluate
+# once per step, at CFL 0.3.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source bench/peer_report.sh

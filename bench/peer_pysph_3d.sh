@@ -7,9 +7,9 @@
 #       wall treatment closest to PySPH's, whose wall particles integrate the continuity equation too)
 #
 # Needs Debian's python3-pysph (apt-get install python3-pysph) and a release build (make build).
-# Speed is particles x force evaluations / wall seconds (the fair ratio per evaluation: PySPH's EPEC
-# integrator and sluice's predictor-corrector both evaluate twice per step, and the two place their
-# wall particles differently: PySPH one layer, sluice layers to 2h).
+# Speed is particles x force evaluations / wall seconds, also per fluid particle and over the same
+# simulated time (bench/peer_report.sh): PySPH's EPEC integrator evaluates twice per step, spheric2's
+# leapfrog once, at a longer step, and the two fill their walls differently (sluice layers to 2h).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source bench/peer_report.sh
