@@ -26,6 +26,8 @@ enum class WallBoundary { dynamic, adami, mdbc };
 inline constexpr std::array<std::string_view, 3> wall_boundary_names = {"dynamic", "adami", "mdbc"};
 enum class WallSlip { no_slip, free_slip };
 inline constexpr std::array<std::string_view, 2> wall_slip_names = {"no_slip", "free_slip"};
+enum class WallFriction { none, log_law };
+inline constexpr std::array<std::string_view, 2> wall_friction_names = {"none", "log_law"};
 
 enum class Precision { double_, single };
 inline constexpr std::array<std::string_view, 2> precision_names = {"double", "single"};
@@ -110,6 +112,7 @@ struct Case {
   double initial_pressure = 0.0;      // added to the water's initial pressure
   WallBoundary wall_boundary = WallBoundary::dynamic;
   WallSlip wall_slip = WallSlip::free_slip;  // mdbc walls
+  WallFriction wall_friction = WallFriction::none;  // physics/wall_friction.hpp
   bool wall_tension = true;  // negative pressures act between water and wall particles (false: counted as 0)
   bool wall_no_penetration = true;   // water within dx/4 of a wall loses its velocity into it (geometry/leaks.hpp)
   double shifting = 0.0;                // particle shifting coefficient A; 0 = off

@@ -153,6 +153,24 @@ struct Checker {
     }
   }
 
+  // The wall function replaces the wall friction: it adds to walls that have none of their own, and
+  // measures the distance from the wall surface, where such walls hold the water (dx/2 off it).
+  void check_wall_friction() const {
+    if (c.wall_friction != WallFriction::log_law) return;
+    const bool frictionless = c.wall_boundary == WallBoundary::adami ||
+                              (c.wall_boundary == WallBoundary::mdbc && c.wall_slip == WallSlip::free_slip);
+    if (!frictionless)
+      fail(fmt::format("physics.wall_friction = \"log_law\" with physics.wall_boundary = \"{}\"{}: those walls have "
+                       "a friction of their own (the artificial viscosity between water and wall){}; expected "
+                       "physics.wall_boundary = \"mdbc\" with physics.wall_slip = \"free_slip\", or \"adami\"",
+                       wall_boundary_names[static_cast<std::size_t>(c.wall_boundary)],
+                       c.wall_boundary == WallBoundary::mdbc ? " and physics.wall_slip = \"no_slip\"" : "",
+                       c.wall_boundary == WallBoundary::dynamic ? " and hold the water about 1.3 dx off the wall" : ""));
+    if (!(c.viscosity > 0.0))
+      fail("physics.wall_friction = \"log_law\" needs the water's viscosity: fluid.viscosity is 0; expected a "
+           "positive dynamic viscosity (water: 0.001 Pa s)");
+  }
+
   // The set-up fills the tank and its walls (2h each side) with a lattice: a bound on its points keeps
   // a mistyped dx from exhausting memory.
   void check_particle_count() const {
@@ -175,6 +193,7 @@ void validate_case(const Case& c, const std::string& source) {
   check.check_water();
   check.check_walls();
   check.check_probes();
+  check.check_wall_friction();
   if (c.output_formats.empty()) check.fail("output.formats is empty; expected at least one of \"vtk\", \"npz\"");
   check.check_particle_count();
 }

@@ -165,6 +165,12 @@ const std::vector<Param<Case>>& case_params() {
               "For mdbc walls: free_slip (the wall particles take the tangential part of the water's velocity at their "
               "mirror image and minus its normal part) or no_slip (minus all of it, so the velocity vanishes at the "
               "surface; with the artificial viscosity this is a strong wall friction: see README)."),
+      declare_choice<&Case::wall_friction>(
+              "physics.wall_friction", WallFriction::none, wall_friction_names,
+              "Wall friction for walls that have none of their own (mdbc with free_slip, adami): none, or log_law "
+              "(the shear stress of the law of the wall for a smooth wall, from each water particle's speed along "
+              "the wall and its distance to it, with fluid.viscosity; spread over the first 2h of water: see "
+              "README \"Wall friction\")."),
       declare("physics.wall_tension", &Case::wall_tension, "", true, unbounded_lower, unbounded_upper,
               "Whether a wall holds the water beside it in tension: true, the pressure force between a water and a "
               "wall particle takes both pressures as they are; false, a negative pressure counts as 0 there, so a "

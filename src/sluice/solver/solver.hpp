@@ -20,6 +20,7 @@
 #include "sluice/physics/kernel.hpp"
 #include "sluice/physics/rates.hpp"
 #include "sluice/physics/shifting.hpp"
+#include "sluice/physics/wall_friction.hpp"
 
 namespace sluice {
 
@@ -226,6 +227,8 @@ class Solver {
   Particles<Dim> particles_;
   Solids<Dim> solids_;
   SolidReach<Dim> solid_reach_;  // where the leak checks can skip the water
+  SolidReach<Dim> friction_reach_;  // where the wall friction can skip the water (reach 2h)
+  WallFrictionSettings friction_{};
   CellGrid<Dim> grid_;
   bool grid_binned_ = false;
   KernelVariant kernel_{CubicSpline<Dim>(1.0)};

@@ -114,6 +114,10 @@ void Solver<Dim>::init(const Case& c) {
   // The leak and wall-approach checks skip the water away from the walls (the wall-approach band is
   // dx/4 wide).
   solid_reach_ = SolidReach<Dim>(solids_, lower, upper, 2.0 * h, 0.25 * c.dx);
+  if (c.wall_friction == WallFriction::log_law) {
+    friction_ = WallFrictionSettings{c.viscosity / c.rest_density, h, c.dx};
+    friction_reach_ = SolidReach<Dim>(solids_, lower, upper, 2.0 * h, 2.0 * h);
+  }
   for (int d = 0; d < Dim; ++d) pair_origin_[d] = 0.5 * size[d];
 }
 
@@ -166,6 +170,7 @@ RateSummary Solver<Dim>::evaluate(bool shepard_due, unsigned also_moved, bool la
   terms_.compute(particles_, settings_.eos, threads_, settings_.artificial_pressure,
                  case_.pair_precision == Precision::single, pair_origin_);
   RateSummary summary = compute_rates(particles_, grid_, kernel_, walls_, settings_, terms_, pair_threads);
+  if (case_.wall_friction == WallFriction::log_law) add_wall_friction(particles_, solids_, friction_, threads_, &friction_reach_);
   if (dist) {
     // A ghost's acceleration lacks the pairs beyond this process's halo: the largest is the owned
     // fluid particles' (the other maxima and the minimum distance are over real pairs and densities).

@@ -1,0 +1,81 @@
+#include "sluice/physics/wall_friction.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "sluice/core/parallel.hpp"
+#include "sluice/geometry/near_solids.hpp"
+#include "sluice/physics/kernel.hpp"
+
+namespace sluice {
+
+namespace {
+constexpr double kappa = 0.41;  // von Karman
+constexpr double log_e = 9.793; // E, smooth wall
+// Where u+ = y+ meets u+ = ln(E y+) / kappa.
+constexpr double sublayer_edge = 11.53;
+}  // namespace
+
+double friction_velocity(double u, double y, double nu) {
+  if (!(u > 0.0)) return 0.0;
+  // The viscous sublayer: u = u_tau^2 y / nu.
+  const double laminar = std::sqrt(nu * u / y);
+  if (laminar * y / nu <= sublayer_edge) return laminar;
+  // The log layer: g(s) = s ln(E y s / nu) - kappa u = 0. g is convex, and increasing from the
+  // sublayer's value on (E y+ > 100 there); that value lies below the root past the edge (the log law
+  // gives the larger u_tau), so Newton's first step lands above the root and the rest descend to it.
+  double s = laminar;
+  const double scale = log_e * y / nu;
+  for (int k = 0; k < 30; ++k) {
+    const double l = std::log(scale * s);
+    const double step = (s * l - kappa * u) / (l + 1.0);
+    s -= step;
+    if (std::abs(step) <= 1e-12 * s) break;
+  }
+  return s;
+}
+
+template <int Dim>
+std::size_t add_wall_friction(Particles<Dim>& p, const Solids<Dim>& solids, const WallFrictionSettings& settings,
+                              int threads, const SolidReach<Dim>* near) {
+  const double reach = 2.0 * settings.h;
+  if (near != nullptr && !(near->reach() >= reach))
+    throw std::invalid_argument("add_wall_friction: the SolidReach's reach is below 2h");
+  const CubicSpline<1> profile(settings.h);
+  const double nu = settings.kinematic_viscosity;
+  const double y_least = 0.1 * settings.dx;
+  const std::vector<near_solids::Bounded<Dim>> boxes = near_solids::bounded<Dim>(solids, reach);
+  const long n = static_cast<long>(p.size());
+  const long count = parallel::count<long>(n, threads, [&](long i) -> long {
+    if (p.kind[i] != Kind::fluid) return 0;
+    const Vec<Dim> x = near_solids::position_of(p, i);
+    if (near != nullptr && near->clear(x)) return 0;
+    Vec<Dim> v{};
+    for (int d = 0; d < Dim; ++d) v[d] = p.velocity[d][i];
+    long felt = 0;
+    for (const near_solids::Bounded<Dim>& b : boxes) {
+      if (!near_solids::in_box<Dim>(b, x)) continue;
+      const double distance = b.solid->signed_distance(x);
+      if (!(distance > 0.0) || distance >= reach) continue;
+      const Vec<Dim> normal = near_solids::outward_normal<Dim>(*b.solid, x, distance, settings.dx);
+      const Vec<Dim> tangential = v - dot(v, normal) * normal;
+      const double u = norm(tangential);
+      if (!(u > 0.0)) continue;
+      const double y = std::max(distance, y_least);
+      const double u_tau = friction_velocity(u, y, nu);
+      const double f = 2.0 * profile.value(distance) * u_tau * u_tau / u;
+      for (int d = 0; d < Dim; ++d) p.acceleration[d][i] -= f * tangential[d];
+      felt = 1;
+    }
+    return felt;
+  });
+  return static_cast<std::size_t>(count);
+}
+
+template std::size_t add_wall_friction<2>(Particles<2>&, const Solids<2>&, const WallFrictionSettings&, int,
+                                          const SolidReach<2>*);
+template std::size_t add_wall_friction<3>(Particles<3>&, const Solids<3>&, const WallFrictionSettings&, int,
+                                          const SolidReach<3>*);
+
+}  // namespace sluice
