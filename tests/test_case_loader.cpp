@@ -707,6 +707,21 @@ TEST(CaseValidation, TankAndResolution) {
                   {"domain.dx = 0.0001", "lattice points"});
 }
 
+// The wall function adds friction to walls that have none of their own, and needs water's viscosity.
+TEST(CaseValidation, WallFrictionNeedsFrictionlessWallsAndAViscosity) {
+  const std::string log_law = "[physics]\nwall_friction = \"log_law\"\n";
+  expect_contains(parse_error(log_law + minimal_water),
+                  {"physics.wall_friction = \"log_law\" with physics.wall_boundary = \"dynamic\"",
+                   "about 1.3 dx off the wall", "expected physics.wall_boundary = \"mdbc\""});
+  expect_contains(parse_error(log_law + "wall_boundary = \"mdbc\"\nwall_slip = \"no_slip\"\n" + minimal_water),
+                  {"physics.wall_slip = \"no_slip\"", "a friction of their own"});
+  expect_contains(parse_error(log_law + "wall_boundary = \"adami\"\n[fluid]\nviscosity = 0.0\n" + minimal_water),
+                  {"fluid.viscosity is 0", "water: 0.001 Pa s"});
+  EXPECT_EQ(parse(log_law + "wall_boundary = \"mdbc\"\n" + minimal_water).wall_friction, WallFriction::log_law);
+  EXPECT_EQ(parse(log_law + "wall_boundary = \"adami\"\n" + minimal_water).wall_friction, WallFriction::log_law);
+  EXPECT_EQ(parse(minimal_water).wall_friction, WallFriction::none);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Built-in cases and the template
 

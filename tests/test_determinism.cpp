@@ -37,7 +37,10 @@ TEST_P(Determinism, OneAndTwoThreadsGiveBitIdenticalResults) {
     apply_override(c, "domain.dx=0.1");
     apply_override(c, std::string("time.integrator=") + integrator);
     apply_override(c, "physics.shepard_every=7");  // exercise the filter too
-    apply_override(c, "physics.wall_boundary=" + walls);
+    // "mdbc+log_law": mDBC walls with the wall function (physics/wall_friction.hpp).
+    const std::size_t plus = walls.find('+');
+    apply_override(c, "physics.wall_boundary=" + walls.substr(0, plus));
+    if (plus != std::string::npos) apply_override(c, "physics.wall_friction=" + walls.substr(plus + 1));
     Simulation one(c, 1), two(c, 2);
     ASSERT_GE(static_cast<long>(one.particles<2>().size()), parallel::pair_loop_threshold)
         << "too few particles for the neighbour loops to run on two threads";
@@ -51,4 +54,4 @@ TEST_P(Determinism, OneAndTwoThreadsGiveBitIdenticalResults) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(WallBoundaries, Determinism, ::testing::Values("dynamic", "adami", "mdbc"));
+INSTANTIATE_TEST_SUITE_P(WallBoundaries, Determinism, ::testing::Values("dynamic", "adami", "mdbc", "mdbc+log_law"));
