@@ -179,6 +179,15 @@ TEST(Leaks, AParticleInsideAWallIsPutBackWithItsNormalVelocityReversed) {
   EXPECT_EQ(put_back_leaked(p, solids, dx), 0u);
 }
 
+TEST(Solids, BoxesSayTheyAreBoxes) {
+  EXPECT_TRUE(Polygon::box({0.0, 0.0}, {1.0, 2.0}).is_box());
+  EXPECT_TRUE(Polygon({{1.0, 2.0}, {0.0, 2.0}, {0.0, 0.0}, {1.0, 0.0}}).is_box());  // clockwise
+  EXPECT_FALSE(Polygon({{0.0, 0.0}, {1.0, 0.0}, {1.0, 2.0}, {0.0, 1.0}}).is_box());
+  EXPECT_FALSE(Polygon({{0.0, 0.0}, {1.0, 0.0}, {1.0, 1.0}, {0.0, 1.0}, {0.0, 0.5}}).is_box());
+  EXPECT_FALSE(Polygon({{0.0, 0.0}, {1.0, 0.0}, {1.0, 1.0}, {1.0, 0.0}}).is_box());  // a corner missing
+  EXPECT_TRUE(Box<3>({0.0, 0.0, 0.0}, {1.0, 1.0, 1.0}).is_box());
+}
+
 TEST(NoPenetration, WaterCloseToAWallLosesItsApproachAndNothingElse) {
   // A floor at y = 0, dx = 0.1: the band is y < dx/4 = 0.025.
   const double dx = 0.1;

@@ -102,3 +102,30 @@ TEST(WallFriction, ActsAlongEachWallAndNotAcrossIt) {
   EXPECT_EQ(p.acceleration[0][0], 0.0);
   for (int d = 0; d < 3; ++d) EXPECT_EQ(p.acceleration[d][2], 0.0);
 }
+
+TEST(WallFriction, BoxesAndGeneralShapesGiveTheSameFriction) {
+  // A floor as a box (the clamped closest point) and as a polygon with an extra vertex on its top
+  // edge (the general closest-point query), with water around a corner of it.
+  const double dx = 0.01, h = 1.3 * dx;
+  const auto box = std::make_shared<Polygon>(Polygon::box({0.0, -0.1}, {1.0, 0.0}));
+  const auto general = std::make_shared<Polygon>(
+      Polygon({{0.0, -0.1}, {1.0, -0.1}, {1.0, 0.0}, {0.5, 0.0}, {0.0, 0.0}}));
+  ASSERT_TRUE(box->is_box());
+  ASSERT_FALSE(general->is_box());
+  const auto run = [&](const std::shared_ptr<Polygon>& floor) {
+    Particles<2> p;
+    for (int i = 0; i < 30; ++i)
+      for (int j = 0; j < 4; ++j) {
+        p.add({0.9 + (i + 0.5) * dx * 0.7, (j + 0.5) * dx * 0.9 - 0.01}, Kind::fluid, 1000.0);
+        p.velocity[0].back() = 0.3 + 0.01 * i;
+        p.velocity[1].back() = -0.2 + 0.02 * j;
+      }
+    for (auto& a : p.acceleration) a.assign(p.size(), 0.0);
+    const std::size_t felt = add_wall_friction(p, Solids<2>{floor}, WallFrictionSettings{nu, h, dx}, 1);
+    EXPECT_GT(felt, 40u);
+    return p.acceleration;
+  };
+  const auto a = run(box), b = run(general);
+  for (int d = 0; d < 2; ++d)
+    for (std::size_t i = 0; i < a[d].size(); ++i) EXPECT_NEAR(a[d][i], b[d][i], 1e-9 * (1.0 + std::abs(b[d][i])));
+}

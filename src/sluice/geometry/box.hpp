@@ -36,6 +36,8 @@ class Box final : public Solid<Dim> {
     return true;
   }
 
+  [[nodiscard]] bool is_box() const override { return true; }
+
   [[nodiscard]] double signed_distance(const Vec<Dim>& x) const override {
     // Outside: the distance to the box; inside: minus the distance to the nearest face.
     double outside2 = 0.0, inside = -std::numeric_limits<double>::infinity();

@@ -14,7 +14,9 @@ namespace sluice::near_solids {
 template <int Dim>
 struct Bounded {
   const Solid<Dim>* solid;
-  Vec<Dim> lower, upper;
+  Vec<Dim> lower, upper;                 // grown by the margin
+  Vec<Dim> solid_lower, solid_upper;     // the solid's own bounds
+  bool box;                              // Solid::is_box
 };
 
 // Each solid with its bounding box grown by `margin` on every side.
@@ -28,7 +30,7 @@ std::vector<Bounded<Dim>> bounded(const Solids<Dim>& solids, double margin) {
       lower[d] -= margin;
       upper[d] += margin;
     }
-    boxes.push_back({s.get(), lower, upper});
+    boxes.push_back({s.get(), lower, upper, s->lower(), s->upper(), s->is_box()});
   }
   return boxes;
 }

@@ -23,6 +23,18 @@ Polygon Polygon::box(Vec2 lower, Vec2 upper) {
   return Polygon({lower, {upper[0], lower[1]}, upper, {lower[0], upper[1]}});
 }
 
+bool Polygon::is_box() const {
+  if (points.size() != 4) return false;
+  const Vec2 lo = lower(), hi = upper();
+  bool corner[2][2] = {{false, false}, {false, false}};
+  for (const Vec2& q : points) {
+    const bool x_lo = q[0] == lo[0], x_hi = q[0] == hi[0], y_lo = q[1] == lo[1], y_hi = q[1] == hi[1];
+    if (!((x_lo || x_hi) && (y_lo || y_hi))) return false;
+    corner[x_hi ? 1 : 0][y_hi ? 1 : 0] = true;
+  }
+  return corner[0][0] && corner[0][1] && corner[1][0] && corner[1][1];
+}
+
 bool Polygon::contains(const Vec2& p) const {
   bool inside = false;
   const std::size_t n = points.size();

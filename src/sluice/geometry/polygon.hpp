@@ -22,6 +22,8 @@ class Polygon final : public Solid<2> {
   void for_each_face_point(const Vec2& p, const std::function<void(const Vec2&)>& f) const override;
   [[nodiscard]] Vec2 lower() const override;  // bounding box
   [[nodiscard]] Vec2 upper() const override;
+  // Four vertices at the corners of its bounding box.
+  [[nodiscard]] bool is_box() const override;
   // Rows parallel to each edge, and arcs around each reflex corner (see polygon.cpp).
   void fill_surface_layers(double dx, int layers, const std::function<void(const Vec2&)>& add) const override;
 

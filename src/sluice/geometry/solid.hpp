@@ -31,6 +31,9 @@ class Solid {
   // Bounding box.
   [[nodiscard]] virtual Vec<Dim> lower() const = 0;
   [[nodiscard]] virtual Vec<Dim> upper() const = 0;
+  // Whether the solid is its bounding box, an axis-aligned box: then the closest point to a point
+  // outside it is that point clamped into [lower(), upper()].
+  [[nodiscard]] virtual bool is_box() const { return false; }
   // Calls f(q) with the point q of each face (an edge in 2D) nearest to x: the candidates for the
   // nearest point of the surface that water touches, where a face may be covered by another solid.
   virtual void for_each_face_point(const Vec<Dim>& x, const std::function<void(const Vec<Dim>&)>& f) const = 0;
