@@ -712,7 +712,7 @@ TEST(CaseValidation, WallFrictionNeedsFrictionlessWallsAndAViscosity) {
   const std::string log_law = "[physics]\nwall_friction = \"log_law\"\n";
   expect_contains(parse_error(log_law + minimal_water),
                   {"physics.wall_friction = \"log_law\" with physics.wall_boundary = \"dynamic\"",
-                   "about 1.3 dx off the wall", "expected physics.wall_boundary = \"mdbc\""});
+                   "hold moving water about 1.5 dx off the wall", "expected physics.wall_boundary = \"mdbc\""});
   expect_contains(parse_error(log_law + "wall_boundary = \"mdbc\"\nwall_slip = \"no_slip\"\n" + minimal_water),
                   {"physics.wall_slip = \"no_slip\"", "a friction of their own"});
   expect_contains(parse_error(log_law + "wall_boundary = \"adami\"\n[fluid]\nviscosity = 0.0\n" + minimal_water),

@@ -3,8 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <memory>
+#include <vector>
 
 #include "sluice/geometry/box.hpp"
 #include "sluice/geometry/polygon.hpp"
@@ -62,7 +64,7 @@ TEST(WallFriction, AWaterLayerOnALogLawProfileFeelsItsWallStress) {
   for (auto& a : p.acceleration) a.assign(p.size(), 0.0);
   const WallFrictionSettings settings{nu, h, dx};
   // Rows up to 2h = 2.6 dx feel it: three of ten.
-  EXPECT_EQ(add_wall_friction(p, solids, settings, 2), static_cast<std::size_t>(3 * columns));
+  EXPECT_EQ(add_wall_friction(p, solids, settings, 2).felt, static_cast<std::size_t>(3 * columns));
   double force = 0.0;  // per unit depth, along x
   for (std::size_t i = 0; i < p.size(); ++i) {
     EXPECT_NEAR(p.acceleration[1][i], 0.0, 1e-12 * std::abs(p.acceleration[0][i]) + 1e-300);
@@ -92,7 +94,13 @@ TEST(WallFriction, ActsAlongEachWallAndNotAcrossIt) {
     p.velocity[2][i] = -0.5;
   }
   for (auto& a : p.acceleration) a.assign(p.size(), 0.0);
-  EXPECT_EQ(add_wall_friction(p, solids, WallFrictionSettings{nu, h, dx}, 1), 2u);
+  const WallFrictionResult result = add_wall_friction(p, solids, WallFrictionSettings{nu, h, dx}, 1);
+  EXPECT_EQ(result.felt, 2u);
+  // The time step sees the largest acceleration among them: the corner particle's, two walls' worth.
+  double corner = 0.0;
+  for (int d = 0; d < 3; ++d) corner += p.acceleration[d][0] * p.acceleration[d][0];
+  EXPECT_GT(result.max_acceleration, 0.0);
+  EXPECT_DOUBLE_EQ(result.max_acceleration, std::sqrt(corner));
   // The floor's friction acts along y only; the side wall's along y and z (z is along it).
   EXPECT_LT(p.acceleration[1][1], 0.0);
   EXPECT_EQ(p.acceleration[0][1], 0.0);
@@ -121,11 +129,31 @@ TEST(WallFriction, BoxesAndGeneralShapesGiveTheSameFriction) {
         p.velocity[1].back() = -0.2 + 0.02 * j;
       }
     for (auto& a : p.acceleration) a.assign(p.size(), 0.0);
-    const std::size_t felt = add_wall_friction(p, Solids<2>{floor}, WallFrictionSettings{nu, h, dx}, 1);
+    const std::size_t felt = add_wall_friction(p, Solids<2>{floor}, WallFrictionSettings{nu, h, dx}, 1).felt;
     EXPECT_GT(felt, 40u);
     return p.acceleration;
   };
   const auto a = run(box), b = run(general);
   for (int d = 0; d < 2; ++d)
     for (std::size_t i = 0; i < a[d].size(); ++i) EXPECT_NEAR(a[d][i], b[d][i], 1e-9 * (1.0 + std::abs(b[d][i])));
+}
+
+TEST(WallFriction, SkipsTheParticlesItIsToldTo) {
+  // Another process's ghosts: their accelerations are not read, so the pass leaves them alone.
+  const double dx = 0.01, h = 1.3 * dx;
+  const Solids<2> solids = {std::make_shared<Polygon>(Polygon::box({-1.0, -0.1}, {2.0, 0.0}))};
+  Particles<2> p;
+  for (int i = 0; i < 4; ++i) {
+    p.add({(i + 0.5) * dx, 0.5 * dx}, Kind::fluid, 1000.0);
+    p.velocity[0].back() = 1.0;
+  }
+  for (auto& a : p.acceleration) a.assign(p.size(), 0.0);
+  const std::vector<std::uint8_t> ghost = {0, 1, 0, 1};
+  const WallFrictionResult result = add_wall_friction<2>(p, solids, WallFrictionSettings{nu, h, dx}, 2, nullptr, ghost.data());
+  EXPECT_EQ(result.felt, 2u);
+  EXPECT_LT(p.acceleration[0][0], 0.0);
+  EXPECT_EQ(p.acceleration[0][1], 0.0);
+  EXPECT_LT(p.acceleration[0][2], 0.0);
+  EXPECT_EQ(p.acceleration[0][3], 0.0);
+  EXPECT_DOUBLE_EQ(result.max_acceleration, -p.acceleration[0][0]);
 }

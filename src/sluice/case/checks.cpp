@@ -165,7 +165,7 @@ struct Checker {
                        "physics.wall_boundary = \"mdbc\" with physics.wall_slip = \"free_slip\", or \"adami\"",
                        wall_boundary_names[static_cast<std::size_t>(c.wall_boundary)],
                        c.wall_boundary == WallBoundary::mdbc ? " and physics.wall_slip = \"no_slip\"" : "",
-                       c.wall_boundary == WallBoundary::dynamic ? " and hold the water about 1.3 dx off the wall" : ""));
+                       c.wall_boundary == WallBoundary::dynamic ? " and hold moving water about 1.5 dx off the wall" : ""));
     if (!(c.viscosity > 0.0))
       fail("physics.wall_friction = \"log_law\" needs the water's viscosity: fluid.viscosity is 0; expected a "
            "positive dynamic viscosity (water: 0.001 Pa s)");

@@ -40,8 +40,9 @@ double friction_velocity(double u, double y, double nu) {
 }
 
 template <int Dim>
-std::size_t add_wall_friction(Particles<Dim>& p, const Solids<Dim>& solids, const WallFrictionSettings& settings,
-                              int threads, const SolidReach<Dim>* near) {
+WallFrictionResult add_wall_friction(Particles<Dim>& p, const Solids<Dim>& solids,
+                                     const WallFrictionSettings& settings, int threads, const SolidReach<Dim>* near,
+                                     const std::uint8_t* skip) {
   const double reach = 2.0 * settings.h;
   if (near != nullptr && !(near->reach() >= reach))
     throw std::invalid_argument("add_wall_friction: the SolidReach's reach is below 2h");
@@ -49,14 +50,14 @@ std::size_t add_wall_friction(Particles<Dim>& p, const Solids<Dim>& solids, cons
   const double nu = settings.kinematic_viscosity;
   const double y_least = 0.1 * settings.dx;
   const std::vector<near_solids::Bounded<Dim>> boxes = near_solids::bounded<Dim>(solids, reach);
-  const long n = static_cast<long>(p.size());
-  const long count = parallel::count<long>(n, threads, [&](long i) -> long {
-    if (p.kind[i] != Kind::fluid) return 0;
+  // Adds the friction of every wall within 2h to particle i; true if one acted.
+  const auto friction_on = [&](long i) -> bool {
+    if (p.kind[i] != Kind::fluid || (skip != nullptr && skip[i] != 0)) return false;
     const Vec<Dim> x = near_solids::position_of(p, i);
-    if (near != nullptr && near->clear(x)) return 0;
+    if (near != nullptr && near->clear(x)) return false;
     Vec<Dim> v{};
     for (int d = 0; d < Dim; ++d) v[d] = p.velocity[d][i];
-    long felt = 0;
+    bool felt = false;
     for (const near_solids::Bounded<Dim>& b : boxes) {
       if (!near_solids::in_box<Dim>(b, x)) continue;
       // Outside the solid, the closest surface point q and the direction from it to x give the
@@ -81,16 +82,35 @@ std::size_t add_wall_friction(Particles<Dim>& p, const Solids<Dim>& solids, cons
       const double u_tau = friction_velocity(u, y, nu);
       const double f = 2.0 * profile.value(distance) * u_tau * u_tau / u;
       for (int d = 0; d < Dim; ++d) p.acceleration[d][i] -= f * tangential[d];
-      felt = 1;
+      felt = true;
     }
     return felt;
+  };
+  const long n = static_cast<long>(p.size());
+  std::size_t felt_total = 0;
+  double max_a2 = 0.0;
+  parallel::for_chunks(n, threads, [&](long begin, long end) {
+    std::size_t felt_here = 0;
+    double max_a2_here = 0.0;
+    for (long i = begin; i < end; ++i)
+      if (friction_on(i)) {
+        ++felt_here;
+        double a2 = 0.0;
+        for (int d = 0; d < Dim; ++d) a2 += p.acceleration[d][i] * p.acceleration[d][i];
+        max_a2_here = std::max(max_a2_here, a2);
+      }
+#pragma omp critical(sluice_wall_friction)
+    {
+      felt_total += felt_here;
+      max_a2 = std::max(max_a2, max_a2_here);
+    }
   });
-  return static_cast<std::size_t>(count);
+  return {felt_total, std::sqrt(max_a2)};
 }
 
-template std::size_t add_wall_friction<2>(Particles<2>&, const Solids<2>&, const WallFrictionSettings&, int,
-                                          const SolidReach<2>*);
-template std::size_t add_wall_friction<3>(Particles<3>&, const Solids<3>&, const WallFrictionSettings&, int,
-                                          const SolidReach<3>*);
+template WallFrictionResult add_wall_friction<2>(Particles<2>&, const Solids<2>&, const WallFrictionSettings&, int,
+                                                 const SolidReach<2>*, const std::uint8_t*);
+template WallFrictionResult add_wall_friction<3>(Particles<3>&, const Solids<3>&, const WallFrictionSettings&, int,
+                                                 const SolidReach<3>*, const std::uint8_t*);
 
 }  // namespace sluice

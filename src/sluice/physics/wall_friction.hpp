@@ -19,6 +19,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 
 #include "sluice/core/particles.hpp"
 #include "sluice/geometry/leaks.hpp"
@@ -35,11 +36,18 @@ struct WallFrictionSettings {
 // The friction velocity u_tau of the law of the wall at distance y > 0 with speed u >= 0 there.
 double friction_velocity(double u, double y, double nu);
 
+struct WallFrictionResult {
+  std::size_t felt = 0;           // fluid particles that felt a wall's friction
+  double max_acceleration = 0.0;  // the largest |acceleration| among them, friction included
+};
+
 // Adds the wall friction to p.acceleration of the fluid particles within 2h of a wall. With `near`
-// (its reach at least 2h), the particles in its clear cells are skipped. Returns how many particles
-// felt it.
+// (its reach at least 2h), the particles in its clear cells are skipped; with `skip`, the particles i
+// with skip[i] != 0 (another process's ghosts, whose accelerations nobody reads). The time step
+// takes the result's max_acceleration into account: the friction can raise a particle's acceleration.
 template <int Dim>
-std::size_t add_wall_friction(Particles<Dim>& p, const Solids<Dim>& solids, const WallFrictionSettings& settings,
-                              int threads, const SolidReach<Dim>* near = nullptr);
+WallFrictionResult add_wall_friction(Particles<Dim>& p, const Solids<Dim>& solids,
+                                     const WallFrictionSettings& settings, int threads,
+                                     const SolidReach<Dim>* near = nullptr, const std::uint8_t* skip = nullptr);
 
 }  // namespace sluice

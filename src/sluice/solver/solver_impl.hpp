@@ -170,7 +170,11 @@ RateSummary Solver<Dim>::evaluate(bool shepard_due, unsigned also_moved, bool la
   terms_.compute(particles_, settings_.eos, threads_, settings_.artificial_pressure,
                  case_.pair_precision == Precision::single, pair_origin_);
   RateSummary summary = compute_rates(particles_, grid_, kernel_, walls_, settings_, terms_, pair_threads);
-  if (case_.wall_friction == WallFriction::log_law) add_wall_friction(particles_, solids_, friction_, threads_, &friction_reach_);
+  if (case_.wall_friction == WallFriction::log_law) {
+    const WallFrictionResult friction = add_wall_friction(particles_, solids_, friction_, threads_, &friction_reach_,
+                                                          dist ? dist->ghost_mask().data() : nullptr);
+    summary.max_acceleration = std::max(summary.max_acceleration, friction.max_acceleration);
+  }
   if (dist) {
     // A ghost's acceleration lacks the pairs beyond this process's halo: the largest is the owned
     // fluid particles' (the other maxima and the minimum distance are over real pairs and densities).
