@@ -40,7 +40,7 @@ struct Fixture {
                 TaitEos{c.rest_density, c.sound_speed, c.gamma}};
     grid.bin(particles.position);
     particles.permute(grid.order(), scratch, false, 1);
-    terms.compute(particles, settings.eos, 1, 0.0, single, middle);
+    terms.compute(particles, settings.eos, settings.gravity, 1, 0.0, single, middle);
   }
 };
 

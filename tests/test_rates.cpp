@@ -73,7 +73,14 @@ Reference<Dim> brute_force(const Particles<Dim>& p, const Kernel& kernel, const 
       }
       if (!fluid_i) continue;
       if (fluid_j) {
-        const double drho_hydro = -0.5 * (t.hydro_k[i] + t.hydro_k[j]) * g_dot_r;
+        // The hydrostatic density difference: rho / c^2 g on each side.
+        double drho_hydro = 0.0;
+        for (int d = 0; d < Dim; ++d) drho_hydro -= 0.5 * (t.rho_gradient[d][i] + t.rho_gradient[d][j]) * dx[d];
+        const auto hydro_k = [&](std::size_t k) {
+          const double pk = s.eos.pressure(p.density[k]);
+          return p.density[k] * p.density[k] / (s.eos.gamma * (pk + s.eos.stiffness()));
+        };
+        EXPECT_NEAR(drho_hydro, -0.5 * (hydro_k(i) + hydro_k(j)) * g_dot_r, 1e-12 * p.density[i]);
         ref.drho[i] += pair::density_diffusion_flux(s.delta * s.h * s.eos.sound_speed, s.mass, p.density[i],
                                                     p.density[j], drho_hydro, F) /
                        p.density[j];
@@ -176,11 +183,11 @@ void compare_with_brute_force(int threads, double wall_alpha_factor = 1.0, bool 
   grid.bin(p.position);
   p.permute(grid.order(), scratch, false, 1);
   ParticleTerms t;
-  t.compute(p, s.eos, 1, s.artificial_pressure);
+  t.compute(p, s.eos, s.gravity, 1, s.artificial_pressure);
   const Reference<Dim> ref = brute_force<Dim>(p, kernel, s, t, WithAp, wall_alpha_factor);
   Vec<Dim> middle{};
   for (int d = 0; d < Dim; ++d) middle[d] = 0.3;
-  if (single) t.compute(p, s.eos, 1, s.artificial_pressure, true, middle);
+  if (single) t.compute(p, s.eos, s.gravity, 1, s.artificial_pressure, true, middle);
   const RateSummary summary = compute_rates<Dim>(p, grid, AnyKernel<Dim>(kernel), walls, s, t, threads);
   const double tolerance = single ? 2e-6 : 1e-12;
 

@@ -28,6 +28,8 @@ enum class WallSlip { no_slip, free_slip };
 inline constexpr std::array<std::string_view, 2> wall_slip_names = {"no_slip", "free_slip"};
 enum class WallFriction { none, log_law };
 inline constexpr std::array<std::string_view, 2> wall_friction_names = {"none", "log_law"};
+enum class DiffusionGradient { hydrostatic, renormalised };
+inline constexpr std::array<std::string_view, 2> diffusion_gradient_names = {"hydrostatic", "renormalised"};
 
 enum class Precision { double_, single };
 inline constexpr std::array<std::string_view, 2> precision_names = {"double", "single"};
@@ -106,6 +108,7 @@ struct Case {
   double artificial_pressure = 0.0;   // Monaghan (2000) epsilon; 0 = off
   int artificial_pressure_exponent = 4;
   double density_diffusion = 0.0;     // delta-SPH delta
+  DiffusionGradient diffusion_gradient = DiffusionGradient::hydrostatic;  // physics/density_gradient.hpp
   int shepard_every = 0;              // steps between Shepard density filters (0 = off)
   bool hydrostatic_start = true;
   bool hydrostatic_squeeze = false;  // and the water squeezed to its hydrostatic density (geometry/setup.cpp)

@@ -142,6 +142,12 @@ const std::vector<Param<Case>>& case_params() {
               "Exponent n of the artificial pressure's kernel ratio (W(r)/W(dx))^n."),
       declare("physics.density_diffusion", &Case::density_diffusion, "", 0.1, 0.0, 1.0,
               "delta-SPH density diffusion coefficient delta (Molteni & Colagrossi 2009, hydrostatic part removed as in Fourtakas et al. 2019; 0 = off)."),
+      declare_choice<&Case::diffusion_gradient>(
+              "physics.density_diffusion_gradient", DiffusionGradient::hydrostatic, diffusion_gradient_names,
+              "The density gradient the density diffusion leaves alone: hydrostatic (rho g / c^2, Fourtakas et al. "
+              "2019) or renormalised (each fluid particle's own, a first-order corrected sum over its fluid "
+              "neighbours: the full delta-SPH of Antuono et al. 2010 and Marrone et al. 2011; a second pass over the "
+              "pairs). See README \"Density diffusion\"."),
       declare("physics.shepard_every", &Case::shepard_every, "steps", 20, 0.0, 1e9,
               "Re-initialise the fluid density with a Shepard filter every this many steps (0 = off)."),
       declare("physics.initial_pressure", &Case::initial_pressure, "Pa", 0.0, -1e9, 1e9,

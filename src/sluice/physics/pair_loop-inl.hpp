@@ -52,6 +52,7 @@ using simd::Pack;
 #include "sluice/physics/pair_terms-inl.hpp"
 #include "sluice/physics/wcsph_pair-inl.hpp"
 #include "sluice/physics/shifting_pair-inl.hpp"
+#include "sluice/physics/density_gradient_pair-inl.hpp"
 
 // f(begin, end) for each range of a CellGrid range list. (The loop is here, not a callback through
 // CellGrid, which is compiled for the baseline instruction set and could not inline this target's f.)
@@ -400,6 +401,26 @@ void shifting_loop(const Particles<Dim>& p, const CellGrid<Dim>& grid, const Shi
   });
 }
 
+// The sums of the renormalised density gradient (physics/density_gradient_pair-inl.hpp) into `out`:
+// M's upper triangle, then g.
+template <int Dim, class Kernel>
+void density_gradient_loop(const Particles<Dim>& p, const CellGrid<Dim>& grid, double h, double mass,
+                           const double* fluid, const std::array<double*, Dim*(Dim + 1) / 2 + Dim>& out,
+                           int threads) {
+  using Pair = DensityGradientPair<Dim, Kernel>;
+  const Kernel kernel(h);
+  const Pair pair{kernel, mass, Kernel::support * Kernel::support * h * h, p.density.data(), fluid};
+  const double support2 = pair.far_r2, min_r2 = 1e-18 * h * h;
+  std::array<const double*, Dim> x{};
+  for (int d = 0; d < Dim; ++d) x[d] = p.position[d].data();
+  const auto fluid_before = fluid_counts(fluid, static_cast<long>(p.size()), threads);
+  double unused_speed2 = 0.0, unused_r2 = support2;
+  std::array<parallel::StealingRuns, 2> runs{parallel::StealingRuns(threads), parallel::StealingRuns(threads)};
+  in_parallel(threads, [&] {
+    for_each_pair<Dim>(pair, grid, x, fluid, fluid_before, support2, min_r2, out, runs, unused_speed2, unused_r2);
+  });
+}
+
 template <int Dim, class Kernel>
 void shepard_loop(Particles<Dim>& p, const CellGrid<Dim>& grid, double h, double mass,
                   const std::vector<std::uint8_t>* selected, std::vector<double>& out, int threads) {
@@ -649,6 +670,7 @@ void add_rate_loops(DimensionLoops<Dim>& loops) {
   if constexpr (W == 0 && single == 0) {
     loops.shepard[K] = &shepard_loop<Dim, Kernel>;
     loops.shifting[K] = &shifting_loop<Dim, Kernel>;
+    loops.density_gradient[K] = &density_gradient_loop<Dim, Kernel>;
     loops.fluid_sums[K] = &fluid_sums_loop<Dim, Kernel>;
     if constexpr (K == 0) {
       loops.fluid_within = &fluid_within_loop<Dim>;

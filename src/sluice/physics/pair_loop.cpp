@@ -129,6 +129,14 @@ void shifting_sums(const Particles<Dim>& p, const CellGrid<Dim>& grid, const Any
 }
 
 template <int Dim>
+void density_gradient_sums(const Particles<Dim>& p, const CellGrid<Dim>& grid, const AnyKernel<Dim>& kernel,
+                           double mass, const double* fluid,
+                           const std::array<double*, Dim*(Dim + 1) / 2 + Dim>& out, int threads) {
+  const double h = std::visit([](const auto& k) { return k.h; }, kernel);
+  loops().template of<Dim>().density_gradient[kernel.index()](p, grid, h, mass, fluid, out, threads);
+}
+
+template <int Dim>
 FluidSums<Dim> fluid_sums_at(const Particles<Dim>& p, const CellGrid<Dim>& grid, const AnyKernel<Dim>& kernel,
                              double mass, const FluidIndex& fluid, const Vec<Dim>& point) {
   const double h = std::visit([](const auto& k) { return k.h; }, kernel);
@@ -165,6 +173,10 @@ template void shifting_sums<2>(const Particles<2>&, const CellGrid<2>&, const An
                                const double*, const std::array<double*, 5>&, int);
 template void shifting_sums<3>(const Particles<3>&, const CellGrid<3>&, const AnyKernel<3>&, const ShiftingSums&,
                                const double*, const std::array<double*, 7>&, int);
+template void density_gradient_sums<2>(const Particles<2>&, const CellGrid<2>&, const AnyKernel<2>&, double,
+                                       const double*, const std::array<double*, 5>&, int);
+template void density_gradient_sums<3>(const Particles<3>&, const CellGrid<3>&, const AnyKernel<3>&, double,
+                                       const double*, const std::array<double*, 9>&, int);
 template void shepard_filter<2>(Particles<2>&, const CellGrid<2>&, const AnyKernel<2>&, double,
                                 const std::vector<std::uint8_t>*, std::vector<double>&, int);
 template void shepard_filter<3>(Particles<3>&, const CellGrid<3>&, const AnyKernel<3>&, double,

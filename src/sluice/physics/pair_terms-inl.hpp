@@ -51,8 +51,10 @@ T continuity(C m, T F, T v_dot_r) {
   return m * F * v_dot_r;
 }
 
-// delta-SPH density diffusion (Molteni & Colagrossi 2009) with the hydrostatic density difference
-// removed (Fourtakas et al. 2019), so that diffusion does not flatten the hydrostatic profile:
+// delta-SPH density diffusion (Molteni & Colagrossi 2009) with the density difference a gradient
+// explains removed, so that diffusion does not flatten the hydrostatic profile: drho_hydro_ij is
+// rho_j - rho_i of the hydrostatic gradient (Fourtakas et al. 2019) or of the two particles' mean
+// renormalised gradient (Antuono et al. 2010: physics/density_gradient.hpp),
 // drho_i/dt += delta h c0 * 2 (rho_j - rho_i - drho_hydro_ij) (r_ji . grad_i W) / r^2 * m / rho_j,
 // and r_ji . grad_i W / r^2 = -F. This returns the flux D = -2 delta h c0 m F (rho_j - rho_i -
 // drho_hydro_ij): particle i gains D / rho_j and particle j gains -D / rho_i (the same formula with

@@ -21,8 +21,8 @@ namespace sluice {
 template <class R>
 struct PairFields {
   std::array<const R*, 3> x{}, v{};
-  const R *rho = nullptr, *inv_rho = nullptr, *p_over_rho2 = nullptr, *hydro_k = nullptr, *fluid = nullptr,
-          *tension = nullptr;
+  std::array<const R*, 3> rho_gradient{};  // the density gradient density diffusion leaves alone
+  const R *rho = nullptr, *inv_rho = nullptr, *p_over_rho2 = nullptr, *fluid = nullptr, *tension = nullptr;
   double rho_base = 0.0;
 };
 
@@ -30,21 +30,26 @@ struct ParticleTerms {
   // Double precision: the derived terms; positions, velocities and densities are the particles' own.
   std::vector<double> p_over_rho2;  // P / rho^2
   std::vector<double> inv_rho;      // 1 / rho
-  std::vector<double> hydro_k;      // rho / c^2: d(rho)/d(P) for the hydrostatic density difference
+  // The density gradient the density diffusion does not diffuse: the hydrostatic one, (rho / c^2) g
+  // (c^2 = dP/drho), or the renormalised gradient of the density field (physics/density_gradient.hpp).
+  std::array<std::vector<double>, 3> rho_gradient;
   std::vector<double> tension;      // artificial pressure R (only filled when it is on)
   std::vector<double> fluid_mask;   // 1 for fluid, 0 for wall (both precisions: shifting reads it)
   // Single precision: all of it, positions relative to `origin` (the middle of the domain, where a
   // float's spacing is smallest), densities as rho - rho0.
   struct Single {
-    std::array<std::vector<float>, 3> x, v;
-    std::vector<float> rho_excess, p_over_rho2, inv_rho, hydro_k, tension, fluid;
+    std::array<std::vector<float>, 3> x, v, rho_gradient;
+    std::vector<float> rho_excess, p_over_rho2, inv_rho, tension, fluid;
   } single;
   bool single_precision = false;
   double rest_density = 0.0;
 
+  // `gravity` gives the hydrostatic density gradient (a run with the renormalised one overwrites it:
+  // set_rho_gradient).
   template <int Dim>
-  void compute(const Particles<Dim>& p, const TaitEos& eos, int threads, double artificial_pressure = 0.0,
-               bool single_precision_pairs = false, const std::type_identity_t<Vec<Dim>>& origin = {}) {
+  void compute(const Particles<Dim>& p, const TaitEos& eos, const std::type_identity_t<Vec<Dim>>& gravity, int threads,
+               double artificial_pressure = 0.0, bool single_precision_pairs = false,
+               const std::type_identity_t<Vec<Dim>>& origin = {}) {
     single_precision = single_precision_pairs;
     rest_density = eos.rest_density;
     const long n = static_cast<long>(p.size());
@@ -52,12 +57,12 @@ struct ParticleTerms {
     const bool on = artificial_pressure > 0.0;
     fluid_mask.resize(size);
     if (single_precision) {
-      for (auto* v : {&single.rho_excess, &single.p_over_rho2, &single.inv_rho, &single.hydro_k, &single.fluid})
-        v->resize(size);
+      for (auto* v : {&single.rho_excess, &single.p_over_rho2, &single.inv_rho, &single.fluid}) v->resize(size);
       single.tension.resize(on ? size : 0);
       for (int d = 0; d < Dim; ++d) {
         single.x[d].resize(size);
         single.v[d].resize(size);
+        single.rho_gradient[d].resize(size);
       }
       parallel::for_chunks(n, threads, [&](long begin, long end) {
         for (int d = 0; d < Dim; ++d) {
@@ -73,14 +78,33 @@ struct ParticleTerms {
           }
         }
       });
-      fill(p, eos, threads, artificial_pressure, single.p_over_rho2.data(), single.inv_rho.data(),
-           single.hydro_k.data(), single.tension.data(), single.fluid.data(), single.rho_excess.data());
+      fill(p, eos, gravity, threads, artificial_pressure, single.p_over_rho2.data(), single.inv_rho.data(),
+           single.rho_gradient, single.tension.data(), single.fluid.data(), single.rho_excess.data());
     } else {
-      for (auto* v : {&p_over_rho2, &inv_rho, &hydro_k}) v->resize(size);
+      for (auto* v : {&p_over_rho2, &inv_rho}) v->resize(size);
+      for (int d = 0; d < Dim; ++d) rho_gradient[d].resize(size);
       tension.resize(on ? size : 0);
-      fill(p, eos, threads, artificial_pressure, p_over_rho2.data(), inv_rho.data(), hydro_k.data(), tension.data(),
-           static_cast<double*>(nullptr), static_cast<double*>(nullptr));
+      fill(p, eos, gravity, threads, artificial_pressure, p_over_rho2.data(), inv_rho.data(), rho_gradient,
+           tension.data(), static_cast<double*>(nullptr), static_cast<double*>(nullptr));
     }
+  }
+
+  // Replaces the density gradient of the pair loop's precision with g[d][i] (after compute()).
+  template <std::size_t Dim>
+  void set_rho_gradient(const std::array<std::vector<double>, Dim>& g, int threads) {
+    const long n = static_cast<long>(g[0].size());
+    parallel::for_chunks(n, threads, [&](long begin, long end) {
+      for (std::size_t d = 0; d < Dim; ++d) {
+        const double* __restrict from = g[d].data();
+        if (single_precision) {
+          float* __restrict to = single.rho_gradient[d].data();
+          for (long i = begin; i < end; ++i) to[i] = static_cast<float>(from[i]);
+        } else {
+          double* __restrict to = rho_gradient[d].data();
+          for (long i = begin; i < end; ++i) to[i] = from[i];
+        }
+      }
+    });
   }
 
   // The arrays of the pair loop of precision R (after compute() in that precision).
@@ -91,11 +115,11 @@ struct ParticleTerms {
       for (int d = 0; d < Dim; ++d) {
         f.x[d] = single.x[d].data();
         f.v[d] = single.v[d].data();
+        f.rho_gradient[d] = single.rho_gradient[d].data();
       }
       f.rho = single.rho_excess.data();
       f.inv_rho = single.inv_rho.data();
       f.p_over_rho2 = single.p_over_rho2.data();
-      f.hydro_k = single.hydro_k.data();
       f.fluid = single.fluid.data();
       f.tension = single.tension.data();
       f.rho_base = rest_density;
@@ -103,11 +127,11 @@ struct ParticleTerms {
       for (int d = 0; d < Dim; ++d) {
         f.x[d] = p.position[d].data();
         f.v[d] = p.velocity[d].data();
+        f.rho_gradient[d] = rho_gradient[d].data();
       }
       f.rho = p.density.data();
       f.inv_rho = inv_rho.data();
       f.p_over_rho2 = p_over_rho2.data();
-      f.hydro_k = hydro_k.data();
       f.fluid = fluid_mask.data();
       f.tension = tension.data();
     }
@@ -118,9 +142,11 @@ struct ParticleTerms {
   // The derived terms into arrays of R (and, if `excess` is given, rho - rho0 there). One loop per
   // case, so that each is a straight loop the compiler vectorises: gamma = 7 (x^7 by three
   // multiplications, as TaitEos::pressure does) or any gamma (pow), with or without tension.
+  // With the hydrostatic density gradient (rho / c^2) g, c^2 = dP/drho = gamma (P + B) / rho.
   template <int Dim, class R>
-  void fill(const Particles<Dim>& p, const TaitEos& eos, int threads, double artificial_pressure, R* pr, R* ir,
-            R* hk, R* tn, R* fm_r, R* excess) {
+  void fill(const Particles<Dim>& p, const TaitEos& eos, const std::type_identity_t<Vec<Dim>>& gravity, int threads,
+            double artificial_pressure, R* pr, R* ir, std::array<std::vector<R>, 3>& gradient, R* tn, R* fm_r,
+            R* excess) {
     const long n = static_cast<long>(p.size());
     const auto run = [&](auto power, auto with_tension, auto with_copies) {
       const double c0_2 = eos.sound_speed * eos.sound_speed;
@@ -130,7 +156,8 @@ struct ParticleTerms {
       double* __restrict fm = fluid_mask.data();
       R* __restrict pr_ = pr;
       R* __restrict ir_ = ir;
-      R* __restrict hk_ = hk;
+      std::array<R*, Dim> gr_{};
+      for (int d = 0; d < Dim; ++d) gr_[d] = gradient[d].data();
       R* __restrict tn_ = tn;
       R* __restrict fr_ = fm_r;
       R* __restrict ex_ = excess;
@@ -143,9 +170,9 @@ struct ParticleTerms {
           const double p_rho2 = pressure * inv * inv;
           ir_[i] = static_cast<R>(inv);
           pr_[i] = static_cast<R>(p_rho2);
-          // c^2 = dP/drho = gamma (P + B) / rho
           const double c2 = gamma * (pressure + stiffness) * inv;
-          hk_[i] = static_cast<R>(rho / std::max(c2, 1e-12 * c0_2));
+          const double k = rho / std::max(c2, 1e-12 * c0_2);
+          for (int d = 0; d < Dim; ++d) gr_[d][i] = static_cast<R>(k * gravity[d]);
           fm[i] = kind[i] == Kind::fluid ? 1.0 : 0.0;
           if constexpr (decltype(with_copies)::value) {
             fr_[i] = static_cast<R>(fm[i]);

@@ -31,6 +31,11 @@ using ShiftingLoop = void (*)(const Particles<Dim>&, const CellGrid<Dim>&, const
                               const std::array<double*, 2 * Dim + 1>& out, int threads);
 
 template <int Dim>
+using DensityGradientLoop = void (*)(const Particles<Dim>&, const CellGrid<Dim>&, double h, double mass,
+                                     const double* fluid,
+                                     const std::array<double*, Dim*(Dim + 1) / 2 + Dim>& out, int threads);
+
+template <int Dim>
 using FluidSumsLoop = FluidSums<Dim> (*)(const Particles<Dim>&, const CellGrid<Dim>&, double h, double mass,
                                          const FluidIndex&, const Vec<Dim>& point);
 
@@ -48,6 +53,7 @@ struct DimensionLoops {
   RateLoop<Dim> rates[kKernels][kPairWallTraits][2][2];
   ShepardLoop<Dim> shepard[kKernels];
   ShiftingLoop<Dim> shifting[kKernels];
+  DensityGradientLoop<Dim> density_gradient[kKernels];
   FluidSumsLoop<Dim> fluid_sums[kKernels];
   FluidWithinLoop<Dim> fluid_within;
   WallsReachedLoop<Dim> walls_reached;

@@ -77,6 +77,15 @@ void shifting_sums(const Particles<Dim>& p, const CellGrid<Dim>& grid, const Any
                    const ShiftingSums& settings, const double* fluid, const std::array<double*, 2 * Dim + 1>& out,
                    int threads);
 
+// The sums of the renormalised density gradient over the fluid-fluid pairs (physics/
+// density_gradient_pair-inl.hpp): out[0, Dim(Dim+1)/2) = the upper triangle of M row by row,
+// then g, each of the particle count. `fluid` is 1 for fluid, 0 for wall particles;
+// `grid` binned on the current order. The same bit for bit on any number of threads.
+template <int Dim>
+void density_gradient_sums(const Particles<Dim>& p, const CellGrid<Dim>& grid, const AnyKernel<Dim>& kernel,
+                           double mass, const double* fluid,
+                           const std::array<double*, Dim*(Dim + 1) / 2 + Dim>& out, int threads);
+
 extern template RateSummary compute_rates<2>(Particles<2>&, const CellGrid<2>&, const AnyKernel<2>&,
                                              const WallTreatment&, const RateSettings<2>&, const ParticleTerms&, int);
 extern template RateSummary compute_rates<3>(Particles<3>&, const CellGrid<3>&, const AnyKernel<3>&,

@@ -21,7 +21,8 @@ struct WcsphPair {
   template <class T>
   struct Side {
     std::array<T, Dim> v;
-    T rho, inv_rho, p_over_rho2, hydro_k, fluid, tension;
+    std::array<T, Dim> rho_gradient;  // the gradient density diffusion leaves alone
+    T rho, inv_rho, p_over_rho2, fluid, tension;
   };
 
   // What it returns: the force on i (j receives -force), both density rates, and what the time step
@@ -38,15 +39,13 @@ struct WcsphPair {
 
   decltype(std::declval<Kernel>().template as<C>()) kernel;
   C m = 0.0, c0 = 0.0, h = 0.0, mu = 0.0, alpha = 0.0, delta_h_c0 = 0.0;
-  std::array<C, Dim> g{};
   C inv_w_dx = 0.0;  // 1 / W(dx), for the artificial pressure
   int ap_n = 0;      // artificial pressure exponent
   C far_r2 = 0.0;    // beyond the support
   C wall_pair_floor = -std::numeric_limits<double>::infinity();  // RateSettings::wall_pair_pressure_floor
   // The particle fields (physics/particle_terms.hpp); a density is rho_base + rho[i].
-  std::array<const R*, Dim> v{};
-  const R *rho = nullptr, *inv_rho = nullptr, *p_over_rho2 = nullptr, *hydro_k = nullptr, *fluid = nullptr,
-          *tension = nullptr;
+  std::array<const R*, Dim> v{}, rho_gradient{};
+  const R *rho = nullptr, *inv_rho = nullptr, *p_over_rho2 = nullptr, *fluid = nullptr, *tension = nullptr;
   C rho_base = 0.0;
 
   // The same pair with its constants as T.
@@ -63,16 +62,15 @@ struct WcsphPair {
     q.mu = c(mu);
     q.alpha = c(alpha);
     q.delta_h_c0 = c(delta_h_c0);
-    for (int d = 0; d < Dim; ++d) q.g[d] = c(g[d]);
     q.inv_w_dx = c(inv_w_dx);
     q.ap_n = ap_n;
     q.far_r2 = c(far_r2);
     q.wall_pair_floor = T(wall_pair_floor);
     q.v = v;
+    q.rho_gradient = rho_gradient;
     q.rho = rho;
     q.inv_rho = inv_rho;
     q.p_over_rho2 = p_over_rho2;
-    q.hydro_k = hydro_k;
     q.fluid = fluid;
     q.tension = tension;
     q.rho_base = c(rho_base);
@@ -89,17 +87,18 @@ struct WcsphPair {
     pair.mu = s.viscosity;
     pair.alpha = s.alpha;
     pair.delta_h_c0 = s.delta * s.h * s.eos.sound_speed;
-    for (int d = 0; d < Dim; ++d) pair.g[d] = s.gravity[d];
     pair.inv_w_dx = WithArtificialPressure ? 1.0 / kernel.value(s.spacing) : 0.0;
     pair.ap_n = s.artificial_pressure_exponent;
     pair.far_r2 = Kernel::support * Kernel::support * s.h * s.h;
     pair.wall_pair_floor = s.wall_pair_pressure_floor;
     const PairFields<R> f = t.template fields<R>(p);
-    for (int d = 0; d < Dim; ++d) pair.v[d] = f.v[d];
+    for (int d = 0; d < Dim; ++d) {
+      pair.v[d] = f.v[d];
+      pair.rho_gradient[d] = f.rho_gradient[d];
+    }
     pair.rho = f.rho;
     pair.inv_rho = f.inv_rho;
     pair.p_over_rho2 = f.p_over_rho2;
-    pair.hydro_k = f.hydro_k;
     pair.fluid = f.fluid;
     pair.tension = f.tension;
     pair.rho_base = f.rho_base;
@@ -112,10 +111,10 @@ struct WcsphPair {
   Side<T> side(Load&& load) const {
     Side<T> s;
     for (int d = 0; d < Dim; ++d) s.v[d] = load(v[d]);
+    for (int d = 0; d < Dim; ++d) s.rho_gradient[d] = load(rho_gradient[d]);
     s.rho = load(rho);
     s.inv_rho = load(inv_rho);
     s.p_over_rho2 = load(p_over_rho2);
-    s.hydro_k = load(hydro_k);
     s.fluid = load(fluid);
     s.tension = WithArtificialPressure ? load(tension) : T(0.0);
     return s;
@@ -125,11 +124,12 @@ struct WcsphPair {
   Rates<T> operator()(const Side<T>& i, const Side<T>& j, const std::array<T, Dim>& r_ij) const {
     std::array<T, Dim> v_ij;
     for (int d = 0; d < Dim; ++d) v_ij[d] = i.v[d] - j.v[d];
-    T r2 = r_ij[0] * r_ij[0], v_dot_r = v_ij[0] * r_ij[0], g_dot_r = g[0] * r_ij[0], v2 = v_ij[0] * v_ij[0];
+    T r2 = r_ij[0] * r_ij[0], v_dot_r = v_ij[0] * r_ij[0], v2 = v_ij[0] * v_ij[0];
+    T gradient_dot_r = (i.rho_gradient[0] + j.rho_gradient[0]) * r_ij[0];
     for (int d = 1; d < Dim; ++d) {
       r2 = r2 + r_ij[d] * r_ij[d];
       v_dot_r = v_dot_r + v_ij[d] * r_ij[d];
-      g_dot_r = g_dot_r + g[d] * r_ij[d];
+      gradient_dot_r = gradient_dot_r + (i.rho_gradient[d] + j.rho_gradient[d]) * r_ij[d];
       v2 = v2 + v_ij[d] * v_ij[d];
     }
     const T r = simd::sqrt(r2);
@@ -153,7 +153,9 @@ struct WcsphPair {
 
     Rates<T> out;
     for (int d = 0; d < Dim; ++d) out.opposite[d] = along_r * r_ij[d] + along_v * v_ij[d];
-    const T drho_hydro = -0.5 * (i.hydro_k + j.hydro_k) * g_dot_r;  // rho_j^H - rho_i^H
+    // rho_j - rho_i of the mean of the two particles' density gradients (the hydrostatic one, or the
+    // field's own: physics/density_gradient.hpp), which the diffusion leaves alone.
+    const T drho_hydro = -0.5 * gradient_dot_r;
     // The continuity equation sees the walls at rest, as they are: the velocity a wall treatment gives
     // its particles (mDBC's no slip or free slip, physics/mdbc.hpp) is for the viscous terms only.
     T rest_v_dot_r = (i.fluid * i.v[0] - j.fluid * j.v[0]) * r_ij[0];

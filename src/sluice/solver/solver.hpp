@@ -17,6 +17,7 @@
 #include "sluice/geometry/solid.hpp"
 #include "sluice/neighbors/cell_grid.hpp"
 #include "sluice/solver/distribution.hpp"
+#include "sluice/physics/density_gradient.hpp"
 #include "sluice/physics/kernel.hpp"
 #include "sluice/physics/rates.hpp"
 #include "sluice/physics/shifting.hpp"
@@ -235,6 +236,7 @@ class Solver {
   WallTreatment walls_;
   RateSettings<Dim> settings_{};
   ParticleTerms terms_;
+  DensityGradient<Dim> rho_gradient_;  // physics.density_diffusion_gradient = "renormalised"
   Vec<Dim> pair_origin_{};  // the middle of the tank: single-precision positions are relative to it
   ShiftingSums shifting_sums_{};
   ShiftingSettings shifting_{};

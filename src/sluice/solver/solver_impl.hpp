@@ -167,8 +167,15 @@ RateSummary Solver<Dim>::evaluate(bool shepard_due, unsigned also_moved, bool la
     walls.before_rates(particles_, grid_, kernel, settings_.eos, settings_.gravity, pair_threads);
   }, walls_, kernel_);
   if (dist && !std::holds_alternative<DynamicWalls>(walls_)) dist->refresh(particles_, {"density", "velocity"});
-  terms_.compute(particles_, settings_.eos, threads_, settings_.artificial_pressure,
+  terms_.compute(particles_, settings_.eos, settings_.gravity, threads_, settings_.artificial_pressure,
                  case_.pair_precision == Precision::single, pair_origin_);
+  if (case_.diffusion_gradient == DiffusionGradient::renormalised && settings_.delta > 0.0) {
+    rho_gradient_.compute(particles_, grid_, kernel_, settings_.mass, terms_.fluid_mask.data(), pair_threads);
+    // A ghost's sum lacks the neighbours beyond this process's halo: its owner's value.
+    if (dist)
+      for (auto& g : rho_gradient_.gradient()) dist->refresh(g);
+    terms_.set_rho_gradient(rho_gradient_.gradient(), threads_);
+  }
   RateSummary summary = compute_rates(particles_, grid_, kernel_, walls_, settings_, terms_, pair_threads);
   if (case_.wall_friction == WallFriction::log_law) {
     const WallFrictionResult friction = add_wall_friction(particles_, solids_, friction_, threads_, &friction_reach_,
