@@ -60,6 +60,12 @@ ValidationVariant parse_variant(const std::string& text) {
   return v;
 }
 
+ValidationVariant seed_walls_variant() {
+  return {"dynamic",
+          {"physics.wall_friction=none", "physics.wall_boundary=dynamic", "physics.shifting=0", "domain.h_over_dx=1.3"},
+          true};
+}
+
 void check_variant_labels(const std::vector<ValidationVariant>& variants) {
   for (std::size_t k = 0; k < variants.size(); ++k)
     for (std::size_t q = 0; q < k; ++q)
@@ -70,16 +76,20 @@ void check_variant_labels(const std::vector<ValidationVariant>& variants) {
 
 ValidationBounds full_bounds() {
   // The targets of the validation issue: PySPH's WCSPH dam break is at RMS dZ = 0.27 against Martin & Moyce.
+  // The wall-pressure issue's plateau target, 0.06, which the cases' settings meet since 2026-12-05.
   return {.mm_front_rms = 0.25, .mm_height_rms = 0.0, .ko_front_rms = 0.0, .buchner_pressure_rms = 0.20,
-          .buchner_plateau_rms = 0.0, .buchner_impact = 0.2, .spheric2_impact = 0.02};
+          .buchner_plateau_rms = 0.06, .buchner_impact = 0.2, .spheric2_impact = 0.02};
 }
 
 ValidationBounds quick_bounds() {
   // What holds at the quick resolution (a/dx = L/dx = 20, H/dx = 30), with a margin over the values
   // measured there (README, "Validation") for the run-to-run scatter of the pressure after impact (a
-  // change of time steps changes its details).
-  return {.mm_front_rms = 0.25, .mm_height_rms = 0.08, .ko_front_rms = 0.30, .buchner_pressure_rms = 0.60,
-          .buchner_plateau_rms = 0.25, .buchner_impact = 0.3, .spheric2_impact = 0.15};
+  // change of time steps changes its details). With the cases' settings since 2026-12-05 (mDBC walls,
+  // the wall function, shifting, h = 2 dx) the measured values are 0.173, 0.012, 0.245, 0.227, 0.053
+  // and 0.051; the seed's dynamic walls gave 0.137, 0.054, 0.210, 0.422, 0.168 and 0.169, over the
+  // residual height's and Buchner's bounds here.
+  return {.mm_front_rms = 0.25, .mm_height_rms = 0.03, .ko_front_rms = 0.30, .buchner_pressure_rms = 0.35,
+          .buchner_plateau_rms = 0.10, .buchner_impact = 0.15, .spheric2_impact = 0.15};
 }
 
 const std::vector<std::string>& validation_case_names() {
@@ -598,7 +608,9 @@ std::string validation_html(const ValidationReport& report, const std::string& c
             s.dashed = true;
             plot.series.push_back(std::move(s));
           }
-          if (!report.variants.empty()) caption += " Dashed: the variants of --compare, named in the legend.";
+          if (!report.variants.empty())
+            caption += " Dashed: the report's other columns (the seed's dynamic walls unless --no-dynamic, the variants of "
+                       "--compare), named in the legend.";
           html.figure(svg_plot(plot), caption);
         }
       html.table({"quantity", "reference", "window", "points", "RMS", "max |diff|", "mean diff"}, comparison_rows(r));
@@ -660,12 +672,15 @@ ValidationReport run_validation(const ValidationOptions& options, std::ostream& 
   check_variant_labels(options.variants);
   // Every case is prepared (and the overrides checked) before anything runs or is written: the main
   // run's, then each variant's.
+  // Each run's case names and cases.
+  using CaseSet = std::vector<std::pair<std::string, Case>>;
   const auto prepare = [&](const ValidationVariant* variant) {
-    std::vector<Case> cases;
+    CaseSet cases;
     for (const std::string& name : names) {
       auto loaded = load_builtin_case(name);
       if (!loaded) throw AnalysisError(fmt::format("the built-in case '{}' is missing from this build", name));
       Case c = *loaded;
+      if (variant && variant->two_d_only && c.dimension != 2) continue;
       if (options.quick) {
         const double length = unit_length(name, c);
         apply_overrides(c, {fmt::format("domain.dx={:.17g}", length / quick_resolution(name))});
@@ -684,25 +699,33 @@ ValidationReport run_validation(const ValidationOptions& options, std::ostream& 
       } catch (const AnalysisError& e) {
         throw CaseError(variant ? fmt::format("--compare '{}': {}", variant->label, e.what()) : std::string(e.what()));
       }
-      cases.push_back(std::move(c));
+      cases.emplace_back(name, std::move(c));
     }
     return cases;
   };
-  const std::vector<Case> cases = prepare(nullptr);
-  std::vector<std::vector<Case>> variant_cases;
-  for (const auto& v : options.variants) variant_cases.push_back(prepare(&v));
+  const CaseSet cases = prepare(nullptr);
+  // A variant with no case to run (the seed's walls when only the 3D case runs) is left out.
+  std::vector<ValidationVariant> variants;
+  std::vector<CaseSet> variant_cases;
+  for (const auto& v : options.variants) {
+    CaseSet set = prepare(&v);
+    if (set.empty()) continue;
+    variants.push_back(v);
+    variant_cases.push_back(std::move(set));
+  }
   create_directories_or_throw(options.output_dir);
-  const auto run_all = [&](const std::vector<Case>& set, const fs::path& runs_dir, const std::string& label) {
+  // (The 2D cases come first in `names`, so a variant's results line up with the main run's.)
+  const auto run_all = [&](const CaseSet& set, const fs::path& runs_dir, const std::string& label) {
     std::vector<ValidationResult> results;
-    for (std::size_t k = 0; k < names.size(); ++k)
-      results.push_back(run_and_evaluate(names[k], set[k], runs_dir / names[k], label, bounds, options, log));
+    for (const auto& [name, c] : set)
+      results.push_back(run_and_evaluate(name, c, runs_dir / name, label, bounds, options, log));
     return results;
   };
   report.results = run_all(cases, options.output_dir / "runs", "");
-  for (std::size_t k = 0; k < options.variants.size(); ++k)
-    report.variants.push_back({options.variants[k], run_all(variant_cases[k],
-                                                            options.output_dir / "variants" / options.variants[k].label / "runs",
-                                                            options.variants[k].label)});
+  for (std::size_t k = 0; k < variants.size(); ++k)
+    report.variants.push_back(
+        {variants[k], run_all(variant_cases[k], options.output_dir / "variants" / variants[k].label / "runs",
+                              variants[k].label)});
   write_file_atomic(options.output_dir / "report.html", validation_html(report, options.command_line));
   write_file_atomic(options.output_dir / "validation.csv", validation_csv(report));
   write_file_atomic(options.output_dir / "checks.csv", checks_csv(report));

@@ -113,7 +113,7 @@ int convergence(const ConvergenceArgs& a) {
 }
 
 struct ValidateArgs {
-  bool quick = false, quiet = false, three_d = false;
+  bool quick = false, quiet = false, three_d = false, no_dynamic = false;
   std::string output;
   std::vector<std::string> cases, sets, compare;
   int threads = 0;
@@ -133,6 +133,11 @@ int validate(const ValidateArgs& a) {
       throw BadInput(e.what());
     }
   }
+  // The seed's dynamic walls beside the cases' own settings, first among the variants (unless a
+  // --compare variant has that label: then it is the user's).
+  const auto seed = analysis::seed_walls_variant();
+  if (!a.no_dynamic && std::none_of(o.variants.begin(), o.variants.end(), [&](const auto& v) { return v.label == seed.label; }))
+    o.variants.insert(o.variants.begin(), seed);
   for (const auto& name : o.cases)
     if (std::find(analysis::validation_case_names().begin(), analysis::validation_case_names().end(), name) ==
         analysis::validation_case_names().end())
@@ -141,7 +146,8 @@ int validate(const ValidateArgs& a) {
   o.threads = threads_or_all(a.threads);
   o.output_dir = a.output.empty() ? fs::path("out") / (a.quick ? "validation_quick" : "validation") : fs::path(a.output);
   o.progress = a.quiet ? RunOptions::Progress::none : RunOptions::Progress::lines;
-  o.command_line = std::string("sluice validate") + (a.quick ? " --quick" : "") + (a.three_d ? " --3d" : "");
+  o.command_line = std::string("sluice validate") + (a.quick ? " --quick" : "") + (a.three_d ? " --3d" : "") +
+                   (a.no_dynamic ? " --no-dynamic" : "");
   for (const auto& name : a.cases) o.command_line += " --case " + name;
   for (const auto& set : a.sets) o.command_line += " --set " + set;
   for (const auto& text : a.compare) o.command_line += " --compare '" + text + "'";
@@ -217,6 +223,9 @@ Command add_validate_command(CLI::App& app) {
                   "KEY=VALUE; KEY=VALUE ...', e.g. --compare 'mdbc: physics.wall_boundary=mdbc'; the checks stay the "
                   "main run's")
       ->allow_extra_args(false);
+  cmd->add_flag("--no-dynamic", args->no_dynamic,
+                "Leave out the column of the seed's dynamic walls (h = 1.3 dx, no shifting, no wall function) that "
+                "the 2D cases are otherwise run again with, beside their own settings");
   cmd->add_option("--threads", args->threads, "Threads per run (default: all cores)")->check(CLI::Range(1, 1024));
   cmd->add_flag("-q,--quiet", args->quiet, "No progress lines");
   return {cmd, [args] { return validate(*args); }};
