@@ -136,9 +136,9 @@ INSTANTIATE_TEST_SUITE_P(
                       // The wall function acts on the owned particles only (a ghost's friction is
                       // skipped); its acceleration enters the time step on each process.
                       Variant{"leapfrog_mdbc_log_law", {"time.integrator=leapfrog", "physics.wall_boundary=mdbc",
-                                                        "physics.wall_friction=log_law"}, 600},
+                                                        "physics.wall_friction=log_law"}, 300},
                       // The renormalised density gradient: the ghosts take their owners' gradients.
-                      Variant{"renormalised_gradient", {"physics.density_diffusion_gradient=renormalised"}, 600},
+                      Variant{"renormalised_gradient", {"physics.density_diffusion_gradient=renormalised"}, 300},
                       // The shift's surface test is a threshold on div r: once round-off tips one
                       // particle's side, the runs part faster (on 3 processes 7e-18 m at step 401,
                       // 1e-10 m at step 501, 4e-9 m at step 533); 300 steps keep to the round-off.
