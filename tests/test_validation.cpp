@@ -255,6 +255,10 @@ TEST(AnalysisCommands, BadInputIsAClearError) {
       {"validate --case spheric2 --set 'water[0].max=[3.22, 1.0, 0.5]'", "the SPHERIC test 2 data are for a 3D tank"},
       {"validate --case buchner --set tank.width=3", "the Buchner data are for a column 2H wide"},
       {"validate --case martin_moyce --set 'physics.gravity=[0.1, -9.81]'", "assume gravity straight down"},
+      // The cases' wall function is refused with dynamic walls: the message says how to switch it off.
+      {"validate --case buchner --set physics.wall_boundary=dynamic",
+       "put physics.wall_friction=none before the walls"},
+      {"validate --case buchner --compare 'd: physics.wall_boundary=dynamic'", "--compare 'd': "},
       // The variants of --compare: their syntax, their labels, and their overrides, before anything runs.
       {"validate --compare physics.wall_boundary=mdbc", "no label"},
       {"validate --compare 'a/b: physics.wall_boundary=mdbc'", "is not a plain name"},

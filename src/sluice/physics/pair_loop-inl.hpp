@@ -382,15 +382,12 @@ RateSummary rate_loop(Particles<Dim>& p, const CellGrid<Dim>& grid, const RateSe
   return {std::sqrt(max_accel2), std::sqrt(max_speed2), max_rho, std::sqrt(closest2)};
 }
 
-// The sums of particle shifting (physics/shifting_pair-inl.hpp) into `out`: grad C, grad C^R, div r.
-template <int Dim, class Kernel>
-void shifting_loop(const Particles<Dim>& p, const CellGrid<Dim>& grid, const ShiftingSums& s, const double* fluid,
-                   const std::array<double*, 2 * Dim + 1>& out, int threads) {
-  using Pair = ShiftingPair<Dim, Kernel>;
-  const Kernel kernel(s.h);
-  const Pair pair{kernel, s.volume, s.tensile, 1.0 / kernel.value(s.spacing), s.exponent,
-                  Kernel::support * Kernel::support * s.h * s.h};
-  const double support2 = pair.far_r2, min_r2 = 1e-18 * s.h * s.h;
+// A pair's sums over every pair of particles within its reach (pair.far_r2), in double precision, into
+// `out`: for pair sums beside the rates that report nothing else.
+template <int Dim, class Pair, std::size_t Outputs>
+void sum_pairs(const Particles<Dim>& p, const CellGrid<Dim>& grid, const Pair& pair, double h, const double* fluid,
+               const std::array<double*, Outputs>& out, int threads) {
+  const double support2 = pair.far_r2, min_r2 = 1e-18 * h * h;
   std::array<const double*, Dim> x{};
   for (int d = 0; d < Dim; ++d) x[d] = p.position[d].data();
   const auto fluid_before = fluid_counts(fluid, static_cast<long>(p.size()), threads);
@@ -401,24 +398,26 @@ void shifting_loop(const Particles<Dim>& p, const CellGrid<Dim>& grid, const Shi
   });
 }
 
+// The sums of particle shifting (physics/shifting_pair-inl.hpp) into `out`: grad C, grad C^R, div r.
+template <int Dim, class Kernel>
+void shifting_loop(const Particles<Dim>& p, const CellGrid<Dim>& grid, const ShiftingSums& s, const double* fluid,
+                   const std::array<double*, 2 * Dim + 1>& out, int threads) {
+  const Kernel kernel(s.h);
+  const ShiftingPair<Dim, Kernel> pair{kernel, s.volume, s.tensile, 1.0 / kernel.value(s.spacing), s.exponent,
+                                       Kernel::support * Kernel::support * s.h * s.h};
+  sum_pairs<Dim>(p, grid, pair, s.h, fluid, out, threads);
+}
+
 // The sums of the renormalised density gradient (physics/density_gradient_pair-inl.hpp) into `out`:
 // M's upper triangle, then g.
 template <int Dim, class Kernel>
 void density_gradient_loop(const Particles<Dim>& p, const CellGrid<Dim>& grid, double h, double mass,
                            const double* fluid, const std::array<double*, Dim*(Dim + 1) / 2 + Dim>& out,
                            int threads) {
-  using Pair = DensityGradientPair<Dim, Kernel>;
   const Kernel kernel(h);
-  const Pair pair{kernel, mass, Kernel::support * Kernel::support * h * h, p.density.data(), fluid};
-  const double support2 = pair.far_r2, min_r2 = 1e-18 * h * h;
-  std::array<const double*, Dim> x{};
-  for (int d = 0; d < Dim; ++d) x[d] = p.position[d].data();
-  const auto fluid_before = fluid_counts(fluid, static_cast<long>(p.size()), threads);
-  double unused_speed2 = 0.0, unused_r2 = support2;
-  std::array<parallel::StealingRuns, 2> runs{parallel::StealingRuns(threads), parallel::StealingRuns(threads)};
-  in_parallel(threads, [&] {
-    for_each_pair<Dim>(pair, grid, x, fluid, fluid_before, support2, min_r2, out, runs, unused_speed2, unused_r2);
-  });
+  const DensityGradientPair<Dim, Kernel> pair{kernel, mass, Kernel::support * Kernel::support * h * h,
+                                              p.density.data(), fluid};
+  sum_pairs<Dim>(p, grid, pair, h, fluid, out, threads);
 }
 
 template <int Dim, class Kernel>
