@@ -281,6 +281,17 @@ void expect_clear_cells_far_from_every_solid(const Case& c) {
   Vec<Dim> nan = lower;
   nan[Dim - 1] = std::nan("");
   EXPECT_FALSE(near.clear(nan));
+  // Past the grid's far side on one axis (its cells may reach a cell past `upper`), with the others in
+  // clear water: not clear.
+  Vec<Dim> middle{};
+  for (int d = 0; d < Dim; ++d) middle[d] = 0.5 * size[d];
+  ASSERT_TRUE(near.clear(middle));
+  for (int d = 0; d < Dim; ++d) {
+    Vec<Dim> past = middle;
+    past[d] = upper[d] + (upper[d] - lower[d]);
+    EXPECT_FALSE(near.clear(past)) << "axis " << d;
+  }
+  EXPECT_FALSE(SolidReach<Dim>{}.clear(middle));  // default-constructed: nothing is clear
 }
 
 }  // namespace

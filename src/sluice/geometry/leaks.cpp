@@ -63,37 +63,89 @@ double SolidReach<Dim>::clear_fraction() const {
          static_cast<double>(clear_.size());
 }
 
+namespace {
+
+// The sum of slow(i, x) over the fluid particles outside `near`'s clear cells (all fluid particles
+// without it). The test that skips the others, most of the water, is a few operations a particle,
+// kept in this loop; `slow` is called out of line for the few near a solid.
+template <int Dim, class Slow>
+std::size_t count_near_solids(const Particles<Dim>& p, int threads, const SolidReach<Dim>* near, Slow&& slow) {
+  const long n = static_cast<long>(p.size());
+  long total = 0;
+  parallel::for_chunks(n, threads, [&](long begin, long end) {
+    const typename SolidReach<Dim>::Lookup clear =
+        near != nullptr ? near->lookup() : typename SolidReach<Dim>::Lookup{};
+    const Kind* const kind = p.kind.data();
+    std::array<const double*, Dim> position;
+    for (int d = 0; d < Dim; ++d) position[d] = p.position[d].data();
+    long part = 0;
+    for (long i = begin; i < end; ++i) {
+      Vec<Dim> x;
+      for (int d = 0; d < Dim; ++d) x[d] = position[d][i];
+      if (kind[i] != Kind::fluid || clear(x)) continue;
+      part += slow(i, x);
+    }
+#pragma omp atomic
+    total += part;
+  });
+  return static_cast<std::size_t>(total);
+}
+
+template <int Dim>
+[[gnu::noinline]] long put_back_one(Particles<Dim>& p, const std::vector<Bounded<Dim>>& boxes, double dx, long i,
+                                    Vec<Dim> x) {
+  const Solid<Dim>* solid = containing<Dim>(boxes, x);
+  if (solid == nullptr) return 0;
+  Vec<Dim> v{};
+  for (int d = 0; d < Dim; ++d) v[d] = p.velocity[d][i];
+  // A few passes: put back across one wall face may land inside an adjoining wall at a corner.
+  for (int pass = 0; pass < 4 && solid != nullptr; ++pass) {
+    const SurfacePoint<Dim> surface = solid->closest_surface_point(x);
+    if (norm(surface.point - x) < 1e-12 * dx) break;  // on the surface already
+    x = surface.point + (0.5 * dx) * surface.normal;
+    const double vn = dot(v, surface.normal);
+    if (vn < 0.0) v = v - (2.0 * vn) * surface.normal;
+    solid = containing<Dim>(boxes, x);
+  }
+  for (int d = 0; d < Dim; ++d) {
+    p.position[d][i] = x[d];
+    p.velocity[d][i] = v[d];
+  }
+  p.needs_density_repair[i] = 1;
+  return 1;
+}
+
+template <int Dim>
+[[gnu::noinline]] long stop_approach_one(Particles<Dim>& p, const std::vector<Bounded<Dim>>& boxes, double dx,
+                                         double band, const typename Particles<Dim>::template Vector<double>* acceleration,
+                                         double tau, long i, const Vec<Dim>& x) {
+  long changed = 0;
+  for (const Bounded<Dim>& b : boxes) {
+    if (!in_box<Dim>(b, x)) continue;
+    const double distance = b.solid->signed_distance(x);
+    if (distance >= band) continue;
+    const Vec<Dim> normal = outward_normal<Dim>(*b.solid, x, distance, dx);
+    double un = 0.0;
+    for (int d = 0; d < Dim; ++d) {
+      const double a = acceleration != nullptr ? (*acceleration)[d][i] : 0.0;
+      un += (p.velocity[d][i] + tau * a) * normal[d];
+    }
+    if (!(un < 0.0)) continue;
+    const double f = std::clamp(1.0 - distance / band, 0.0, 2.0);
+    for (int d = 0; d < Dim; ++d) p.velocity[d][i] -= f * un * normal[d];
+    changed = 1;
+  }
+  return changed;
+}
+
+}  // namespace
+
 template <int Dim>
 std::size_t put_back_leaked(Particles<Dim>& p, const Solids<Dim>& solids, double dx, int threads,
                             const SolidReach<Dim>* near) {
   const std::vector<Bounded<Dim>> boxes = bounded<Dim>(solids, 0.0);
-
-  const long n = static_cast<long>(p.size());
-  const long count = parallel::count<long>(n, threads, [&](long i) -> long {
-    if (p.kind[i] != Kind::fluid) return 0;
-    Vec<Dim> x = position_of(p, i);
-    if (near != nullptr && near->clear(x)) return 0;
-    const Solid<Dim>* solid = containing<Dim>(boxes, x);
-    if (solid == nullptr) return 0;
-    Vec<Dim> v{};
-    for (int d = 0; d < Dim; ++d) v[d] = p.velocity[d][i];
-    // A few passes: put back across one wall face may land inside an adjoining wall at a corner.
-    for (int pass = 0; pass < 4 && solid != nullptr; ++pass) {
-      const SurfacePoint<Dim> surface = solid->closest_surface_point(x);
-      if (norm(surface.point - x) < 1e-12 * dx) break;  // on the surface already
-      x = surface.point + (0.5 * dx) * surface.normal;
-      const double vn = dot(v, surface.normal);
-      if (vn < 0.0) v = v - (2.0 * vn) * surface.normal;
-      solid = containing<Dim>(boxes, x);
-    }
-    for (int d = 0; d < Dim; ++d) {
-      p.position[d][i] = x[d];
-      p.velocity[d][i] = v[d];
-    }
-    p.needs_density_repair[i] = 1;
-    return 1;
-  });
-  return static_cast<std::size_t>(count);
+  return count_near_solids<Dim>(p, threads, near,
+                                [&](long i, const Vec<Dim>& x) { return put_back_one<Dim>(p, boxes, dx, i, x); });
 }
 
 template <int Dim>
@@ -104,30 +156,9 @@ std::size_t stop_wall_approach(Particles<Dim>& p, const Solids<Dim>& solids, dou
   if (near != nullptr && !(near->reach() >= band))
     throw std::invalid_argument("stop_wall_approach: the SolidReach's reach is below dx/4");
   const std::vector<Bounded<Dim>> boxes = bounded<Dim>(solids, band);
-  const long n = static_cast<long>(p.size());
-  const long count = parallel::count<long>(n, threads, [&](long i) -> long {
-    if (p.kind[i] != Kind::fluid) return 0;
-    const Vec<Dim> x = position_of(p, i);
-    if (near != nullptr && near->clear(x)) return 0;
-    long changed = 0;
-    for (const Bounded<Dim>& b : boxes) {
-      if (!in_box<Dim>(b, x)) continue;
-      const double distance = b.solid->signed_distance(x);
-      if (distance >= band) continue;
-      const Vec<Dim> normal = outward_normal<Dim>(*b.solid, x, distance, dx);
-      double un = 0.0;
-      for (int d = 0; d < Dim; ++d) {
-        const double a = acceleration != nullptr ? (*acceleration)[d][i] : 0.0;
-        un += (p.velocity[d][i] + tau * a) * normal[d];
-      }
-      if (!(un < 0.0)) continue;
-      const double f = std::clamp(1.0 - distance / band, 0.0, 2.0);
-      for (int d = 0; d < Dim; ++d) p.velocity[d][i] -= f * un * normal[d];
-      changed = 1;
-    }
-    return changed;
+  return count_near_solids<Dim>(p, threads, near, [&](long i, const Vec<Dim>& x) {
+    return stop_approach_one<Dim>(p, boxes, dx, band, acceleration, tau, i, x);
   });
-  return static_cast<std::size_t>(count);
 }
 
 template class SolidReach<2>;

@@ -28,15 +28,37 @@ class SolidReach {
   SolidReach(const Solids<Dim>& solids, const Vec<Dim>& lower, const Vec<Dim>& upper, double cell, double reach,
              std::size_t max_cells = std::size_t{1} << 22);
 
-  [[nodiscard]] bool clear(const Vec<Dim>& x) const {
-    std::size_t c = 0;
-    for (int d = Dim - 1; d >= 0; --d) {
-      const double u = (x[d] - lower_[d]) * inv_cell_;
-      if (!(u >= 0.0 && u < static_cast<double>(count_[d]))) return false;
-      c = c * static_cast<std::size_t>(count_[d]) + static_cast<std::size_t>(u);
+  // The lookup, its numbers in a value of its own that a loop can keep in registers. Without
+  // branches: a point outside the box (or not a number) reads cell 0 and is not clear.
+  struct Lookup {
+    Vec<Dim> lower{};
+    std::array<double, Dim> extent{};  // the cell counts, as doubles
+    std::array<int, Dim> count{};
+    double inv_cell = 0.0;
+    const std::uint8_t* clear = nullptr;
+
+    [[nodiscard]] bool operator()(const Vec<Dim>& x) const {
+      bool inside = clear != nullptr;
+      std::int64_t c = 0;
+      for (int d = Dim - 1; d >= 0; --d) {
+        const double u = (x[d] - lower[d]) * inv_cell;
+        const bool in = u >= 0.0 && u < extent[d];
+        inside = inside && in;
+        c = c * count[d] + static_cast<int>(in ? u : 0.0);
+      }
+      return inside && clear[inside ? c : 0] != 0;
     }
-    return clear_[c] != 0;
+  };
+  [[nodiscard]] Lookup lookup() const {
+    Lookup l;
+    l.lower = lower_;
+    for (int d = 0; d < Dim; ++d) l.extent[d] = static_cast<double>(count_[d]);
+    l.count = count_;
+    l.inv_cell = inv_cell_;
+    l.clear = clear_.empty() ? nullptr : clear_.data();
+    return l;
   }
+  [[nodiscard]] bool clear(const Vec<Dim>& x) const { return lookup()(x); }
   [[nodiscard]] double reach() const { return reach_; }
   // The fraction of the cells that are clear (for tests and diagnostics).
   [[nodiscard]] double clear_fraction() const;
