@@ -14,7 +14,6 @@ using near_solids::bounded;
 using near_solids::containing;
 using near_solids::in_box;
 using near_solids::outward_normal;
-using near_solids::position_of;
 
 template <int Dim>
 SolidReach<Dim>::SolidReach(const Solids<Dim>& solids, const Vec<Dim>& lower, const Vec<Dim>& upper, double cell,
