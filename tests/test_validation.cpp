@@ -273,4 +273,21 @@ TEST(AnalysisCommands, BadInputIsAClearError) {
     EXPECT_NE(o.err.find("sluice: error: "), std::string::npos) << c.args << "\n" << o.err;
     EXPECT_NE(o.err.find(c.expected), std::string::npos) << c.args << "\n" << o.err;
   }
+  // The wall-function hint is given where switching the wall function off would have been enough,
+  // and only there: not for a refusal of something else, nor where the user keeps the wall function.
+  const struct {
+    std::string args;
+    bool hint;
+  } hints[] = {
+      {"validate --case buchner --compare 'd: physics.wall_boundary=dynamic'", true},
+      {"validate --case buchner --set physics.wall_boundary=dynamic --set physics.shifting=-1", false},
+      {"validate --case buchner --set physics.wall_boundary=adamy", false},
+      {"validate --case buchner --set physics.wall_slip=no_slip --set physics.wall_friction=log_law", false},
+  };
+  for (const auto& c : hints) {
+    const Outcome o = run_sluice(c.args);
+    EXPECT_EQ(o.status, 2) << c.args << "\n" << o.err;
+    EXPECT_EQ(o.err.find("put physics.wall_friction=none before the walls") != std::string::npos, c.hint)
+        << c.args << "\n" << o.err;
+  }
 }

@@ -686,11 +686,21 @@ ValidationReport run_validation(const ValidationOptions& options, std::ostream& 
         apply_overrides(c, {fmt::format("domain.dx={:.17g}", length / quick_resolution(name))});
       }
       // The validation cases run the wall function, which other walls refuse: a --set of those walls
-      // alone is told to switch it off first.
-      const bool case_has_wall_function = c.wall_friction == WallFriction::log_law;
-      const auto hint = [&](const CaseError& e) {
+      // alone is told to switch it off first. The hint is given when the same overrides would have
+      // been accepted with the wall function off before them.
+      const Case before = c;
+      const auto hint = [&](const CaseError& e, const std::vector<std::string>& sets) {
         const std::string what = e.what();
-        if (!case_has_wall_function || what.find("\"log_law\" with") == std::string::npos) return what;
+        if (before.wall_friction != WallFriction::log_law) return what;
+        std::vector<std::string> without{"physics.wall_friction=none"};
+        without.insert(without.end(), options.sets.begin(), options.sets.end());
+        without.insert(without.end(), sets.begin(), sets.end());
+        Case retried = before;
+        try {
+          apply_overrides(retried, without);
+        } catch (const CaseError&) {
+          return what;  // refused for another reason too: the wall function is not what is wrong
+        }
         return fmt::format("{} (the validation case '{}' sets physics.wall_friction = \"log_law\"; put "
                            "physics.wall_friction=none before the walls, as the built-in 'dynamic' column does)",
                            what, name);
@@ -698,13 +708,13 @@ ValidationReport run_validation(const ValidationOptions& options, std::ostream& 
       try {
         apply_overrides(c, options.sets);
       } catch (const CaseError& e) {
-        throw CaseError(hint(e));
+        throw CaseError(hint(e, {}));
       }
       if (variant) {
         try {
           apply_overrides(c, variant->sets);
         } catch (const CaseError& e) {  // says --set: name the variant the user wrote
-          throw CaseError(fmt::format("--compare '{}': {}", variant->label, hint(e)));
+          throw CaseError(fmt::format("--compare '{}': {}", variant->label, hint(e, variant->sets)));
         }
       }
       // A case changed so that its data no longer apply is bad input, found before hours of running.
