@@ -155,16 +155,27 @@ class CellGrid {
     return r;
   }
 
-  // The same rows as ranges of cell indices [first, second): the cells adjacent to cell `c`.
-  [[nodiscard]] NeighborRanges neighbor_cells(std::uint32_t c) const {
+  // Cell c's coordinates along the grid's axes, and the first and last of the columns (along the
+  // grid's first axis) adjacent to it.
+  struct CellPlace {
     std::array<int, Dim> coord{};
+    int x_lo = 0, x_hi = 0;
+  };
+  [[nodiscard]] CellPlace place_of(std::uint32_t c) const {
+    CellPlace place;
     std::uint32_t rest = c;
     for (int d = 0; d < Dim; ++d) {
-      coord[d] = static_cast<int>(rest % static_cast<std::uint32_t>(count_[d]));
+      place.coord[d] = static_cast<int>(rest % static_cast<std::uint32_t>(count_[d]));
       rest /= static_cast<std::uint32_t>(count_[d]);
     }
-    const int x_lo = std::max(coord[0] - 1, 0);
-    const int x_hi = std::min(coord[0] + 1, count_[0] - 1);
+    place.x_lo = std::max(place.coord[0] - 1, 0);
+    place.x_hi = std::min(place.coord[0] + 1, count_[0] - 1);
+    return place;
+  }
+
+  // The same rows as ranges of cell indices [first, second): the cells adjacent to cell `c`.
+  [[nodiscard]] NeighborRanges neighbor_cells(std::uint32_t c) const {
+    const auto [coord, x_lo, x_hi] = place_of(c);
     NeighborRanges r;
     const auto add = [&](std::size_t row) {
       r.add(static_cast<std::uint32_t>(row + x_lo), static_cast<std::uint32_t>(row + x_hi + 1));
@@ -241,14 +252,7 @@ class CellGrid {
   };
 
   [[nodiscard]] ForwardRanges forward_ranges(std::uint32_t c) const {
-    std::array<int, Dim> coord{};
-    std::uint32_t rest = c;
-    for (int d = 0; d < Dim; ++d) {
-      coord[d] = static_cast<int>(rest % static_cast<std::uint32_t>(count_[d]));
-      rest /= static_cast<std::uint32_t>(count_[d]);
-    }
-    const int x_lo = std::max(coord[0] - 1, 0);
-    const int x_hi = std::min(coord[0] + 1, count_[0] - 1);
+    const auto [coord, x_lo, x_hi] = place_of(c);
     const std::size_t own_row = c - static_cast<std::uint32_t>(coord[0]);
     ForwardRanges r;
     r.own_end = cell_start_[own_row + x_hi + 1];
