@@ -389,13 +389,64 @@ TEST(Validation, MartinMoyceScalingRecoversTheDataThatWentIn) {
     write_probe(dir.path, "front", "time,distance", x);
     write_probe(dir.path, "column_height", "time,height", h);
     const ValidationResult r = evaluate_martin_moyce(c, dir.path, full_bounds());
-    ASSERT_EQ(r.comparisons.size(), 3u);
+    // The window T <= 3, the same moved in time, all points (T <= 3.33), the residual height.
+    ASSERT_EQ(r.comparisons.size(), 4u);
+    EXPECT_EQ(r.comparisons[0].id, "front_window");
     EXPECT_NEAR(r.comparisons[0].difference.rms, shift, 1e-9);
     EXPECT_EQ(r.comparisons[0].difference.points, 13u);  // T <= 3
-    EXPECT_NEAR(r.comparisons[2].difference.rms, 0.0, 1e-9);
+    // Moved in time it is never further off (a constant lead in Z, where the front's speed is
+    // steady, is the same as a lead in time: the move takes most of it away).
+    EXPECT_EQ(r.comparisons[1].id, "front_window_moved");
+    EXPECT_LE(r.comparisons[1].difference.rms, r.comparisons[0].difference.rms);
+    if (shift == 0.0) {
+      EXPECT_NEAR(r.comparisons[1].difference.rms, 0.0, 1e-9);
+    }
+    EXPECT_EQ(r.comparisons[3].id, "height");
+    EXPECT_NEAR(r.comparisons[3].difference.rms, 0.0, 1e-9);
     EXPECT_EQ(r.passed(), shift < 0.25);
     EXPECT_EQ(r.figures.size(), 2u);
   }
+}
+
+TEST(Validation, TheMovedComparisonFindsADifferenceInTiming) {
+  // Martin & Moyce's front 0.2 in T earlier than theirs (a faster release, say): the window's RMS is
+  // large, and the comparison moved in time finds the 0.2 and nothing left.
+  const Case c = *load_builtin_case("martin_moyce");
+  const double a = c.water[0].max[0], g = -c.gravity[1];
+  const Series front = reference_table("mm1952_n2sq2_a2.25in_front_table2.csv").series("T", "Z");
+  TempDir dir;
+  Series x;
+  x.t.push_back(0.0);
+  x.y.push_back(a - 0.5 * c.dx);  // Z = 1 at T = 0
+  for (std::size_t i = 0; i < front.size(); ++i) {
+    x.t.push_back((front.t[i] - 0.2) / std::sqrt(2 * g / a));
+    x.y.push_back(front.y[i] * a - 0.5 * c.dx);
+  }
+  write_probe(dir.path, "front", "time,distance", x);
+  const Series height = reference_table("mm1952_n2sq2_a2.25in_height_table6.csv").series("tau", "H");
+  Series h;
+  for (std::size_t i = 0; i < height.size(); ++i) {
+    h.t.push_back(height.t[i] / std::sqrt(g / a));
+    h.y.push_back(height.y[i] * 2 * a);
+  }
+  write_probe(dir.path, "column_height", "time,height", h);
+  const ValidationResult r = evaluate_martin_moyce(c, dir.path, full_bounds());
+  ASSERT_EQ(r.comparisons[1].id, "front_window_moved");
+  EXPECT_GT(r.comparisons[0].difference.rms, 0.15);
+  EXPECT_NEAR(r.comparisons[1].difference.rms, 0.0, 1e-9);
+  EXPECT_EQ(r.comparisons[1].quantity, "front Z moved +0.20 in T");
+
+  // The same, directly: a curve late by 0.35 moves earlier, and the id and window carry over.
+  const Series reference{{0.0, 1.0, 2.0, 3.0, 4.0}, {0.0, 0.0, 1.0, 1.0, 0.5}};
+  Series late = reference;
+  for (double& t : late.t) t += 0.35;
+  const Comparison base{"p", "p* = p/(rho g H)", "data", "1 <= t <= 4", compare(late, reference, 1.0, 4.0)};
+  const Comparison moved = moved_comparison(base, late, reference, 1.0, 4.0, 0.5, 0.01, "t*");
+  EXPECT_EQ(moved.id, "p_moved");
+  EXPECT_EQ(moved.quantity, "p* moved -0.35 in t*");
+  EXPECT_EQ(moved.window, "1 <= t <= 4");
+  EXPECT_NEAR(moved.difference.rms, 0.0, 1e-9);
+  EXPECT_GT(base.difference.rms, 0.1);
 }
 
 TEST(Validation, BuchnerScalingAndImpactTimeRecoverTheDataThatWentIn) {

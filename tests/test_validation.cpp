@@ -108,6 +108,12 @@ TEST(QuickValidation, AgreesWithExperimentsAtCoarseResolution) {
                          "buchner.pressure_rms", "buchner.plateau_rms", "buchner.impact_time"})
     ASSERT_TRUE(c.count(id)) << id;
   ASSERT_TRUE(m.count("martin_moyce.front_window"));
+  // Each curve also moved in time by its best constant: never further from the data than as run.
+  for (const char* id : {"martin_moyce.front_window", "koshizuka_oka.front_window", "buchner.pressure"}) {
+    const std::string moved = std::string(id) + "_moved";
+    ASSERT_TRUE(m.count(moved)) << moved;
+    EXPECT_LE(m.at(moved).first, m.at(id).first) << moved;
+  }
   const auto seed = read_comparisons(dir / "out" / "validation.csv", "dynamic");
   for (const char* id : {"martin_moyce.front_window", "koshizuka_oka.front_window", "buchner.pressure"})
     ASSERT_TRUE(seed.count(id)) << id;

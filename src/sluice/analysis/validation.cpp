@@ -176,7 +176,39 @@ std::string settings_of(const Case& c) {
       name_of(c.wall_boundary, wall_boundary_names));
 }
 
+Comparison moved_comparison(const Comparison& base, const Series& simulation, const Series& reference, double t_min,
+                            double t_max, double max_shift, double step, const std::string& time_symbol) {
+  const Lag lag = best_lag(simulation, reference, t_min, t_max, max_shift, step);
+  Series moved = simulation;  // moved(t) = simulation(t + lag.shift)
+  for (double& t : moved.t) t -= lag.shift;
+  // -0.0 reads "+0.00" rather than "-0.00".
+  const double later = lag.shift == 0.0 ? 0.0 : -lag.shift;
+  return {base.id + "_moved", fmt::format("{} moved {:+.2f} in {}", base.quantity.substr(0, base.quantity.find(" = ")),
+                                          later, time_symbol),
+          base.reference, base.window, compare(moved, reference, t_min, t_max)};
+}
+
 namespace {
+
+// How far in the data's time the moved comparisons look either way, and in what steps: T and t* are
+// both of order one over the rise or the first metre of a front.
+constexpr double moved_range = 0.5;
+constexpr double moved_step = 0.01;
+
+// The comparison with this id (it must be there).
+const Comparison& comparison(const ValidationResult& r, const std::string& id) {
+  for (const auto& c : r.comparisons)
+    if (c.id == id) return c;
+  throw AnalysisError(fmt::format("{}: no comparison '{}'", r.case_name, id));
+}
+
+std::string moved_note() {
+  return fmt::format(
+      "The row 'moved' compares the simulated curve moved in time by the constant (within +-{:g}) that fits the data "
+      "best: that constant is the difference in timing, the RMS left the difference in shape. Positive: the "
+      "simulation ran ahead of the data.",
+      moved_range);
+}
 
 std::string provenance(const Table& t) {
   std::string s;
@@ -268,6 +300,7 @@ ValidationResult evaluate_front_case(const FrontCase& fc, const Case& c, const f
   const Comparison window{"front_window", quantity, fc.data_label, fmt::format("T <= {:g}", fc.t_window),
                           compare(front, reference, 0.0, fc.t_window)};
   r.comparisons.push_back(window);
+  r.comparisons.push_back(moved_comparison(window, front, reference, 0.0, fc.t_window, moved_range, moved_step, "T"));
   if (t_all > fc.t_window)
     r.comparisons.push_back({"front_all", quantity, fc.data_label, "all points", compare(front, reference, 0.0, t_all)});
   if (bound > 0.0)
@@ -282,6 +315,7 @@ ValidationResult evaluate_front_case(const FrontCase& fc, const Case& c, const f
       "A positive mean difference means the simulated front runs ahead of the experiment. The experiments include "
       "the time the gate takes to open and friction on the floor; the simulation releases the column at once over a "
       "floor of wall particles.");
+  r.notes.push_back(moved_note());
   return r;
 }
 
@@ -365,10 +399,11 @@ std::optional<std::string> shares_note(const ValidationResult& r, const Comparis
   const double total = whole.difference.rms * whole.difference.rms * static_cast<double>(whole.difference.points);
   if (!(total > 0.0)) return std::nullopt;
   std::string shares;
-  for (std::size_t k = 1; k <= 3 && k < r.comparisons.size(); ++k) {
-    const Difference& d = r.comparisons[k].difference;
+  for (const char* id : {"pressure_impact", "pressure_plateau", "pressure_second_impact"}) {
+    const Comparison& part = comparison(r, id);
+    const Difference& d = part.difference;
     shares += fmt::format("{}{:.0f}% from {}", shares.empty() ? "" : ", ",
-                          100.0 * d.rms * d.rms * static_cast<double>(d.points) / total, r.comparisons[k].window);
+                          100.0 * d.rms * d.rms * static_cast<double>(d.points) / total, part.window);
   }
   return "Of the squared difference over 2 <= t* <= 7 (a data point on the edge of two parts counts in both): " +
          shares + ".";
@@ -433,6 +468,7 @@ ValidationResult evaluate_buchner(const Case& c, const fs::path& run_dir, const 
   const Comparison cmp{"pressure", "wall pressure p* = p/(rho g H) at y = 0.2H", "Buchner (2002)", "2 <= t* <= 7",
                        compare(pressure, reference, 2.0, 7.0)};
   r.comparisons.push_back(cmp);
+  r.comparisons.push_back(moved_comparison(cmp, pressure, reference, 2.0, 7.0, moved_range, moved_step, "t*"));
   // Where the difference comes from: the impact and the first run-up, the quasi-steady plateau, and
   // the return of the plunging wave.
   for (const auto& [id, lo, hi] : {std::tuple{"pressure_impact", 2.0, 3.5}, std::tuple{"pressure_plateau", 3.5, 5.5},
@@ -441,13 +477,14 @@ ValidationResult evaluate_buchner(const Case& c, const fs::path& run_dir, const 
                              fmt::format("{:g} <= t* <= {:g}", lo, hi), compare(pressure, reference, lo, hi)});
   if (b.buchner_plateau_rms > 0.0)
     r.checks.push_back({"buchner.plateau_rms", "buchner: wall pressure RMS dp*, 3.5 <= t* <= 5.5 (plateau)",
-                        r.comparisons[2].difference.rms, b.buchner_plateau_rms});
+                        comparison(r, "pressure_plateau").difference.rms, b.buchner_plateau_rms});
   r.checks.push_back({"buchner.pressure_rms", "buchner: wall pressure RMS dp*, 2 <= t* <= 7", cmp.difference.rms,
                       b.buchner_pressure_rms});
   const std::optional<double> impact_sim = check_impact(r, pressure, reference, b);
   r.figures.push_back(buchner_figure(c, height, pressure, reference, data));
   r.notes.push_back(fmt::format("Impact time: the first time p* reaches {:g}, about half the first pressure plateau.",
                                 impact_pressure_level));
+  r.notes.push_back(moved_note());
   if (auto note = shares_note(r, cmp)) r.notes.push_back(*note);
   if (auto note = arrival_note(c, run_dir, height, impact_sim)) r.notes.push_back(*note);
   return r;

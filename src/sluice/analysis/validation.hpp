@@ -42,6 +42,13 @@ struct Comparison {
   Difference difference;
 };
 
+// `base` again with the simulated curve moved in time by the constant s within +-max_shift (in steps
+// of `step`) that fits the data best over [t_min, t_max] (best_lag): s is the difference in timing,
+// the RMS left the difference in shape. The id gets "_moved"; the quantity says by how much, in
+// `time_symbol`'s units (positive: the simulation moved later, it ran ahead of the data).
+Comparison moved_comparison(const Comparison& base, const Series& simulation, const Series& reference, double t_min,
+                            double t_max, double max_shift, double step, const std::string& time_symbol);
+
 // A plot of a simulated curve against data, drawn (svg_plot) when the report is written, so that
 // the --compare variants' curves can join it.
 struct Figure {
