@@ -365,6 +365,31 @@ void write_probe(const fs::path& dir, const std::string& name, const std::string
   write_file_atomic(dir / "probes" / (name + ".csv"), text);
 }
 
+
+// A "run" of the Martin & Moyce case in dir whose probes hold Martin & Moyce's own curves converted to
+// metres and seconds: the front `dz` further in Z and `dT` earlier in T (from Z = 1 at T = 0), the
+// residual height as measured.
+void write_martin_moyce_probes(const fs::path& dir, const Case& c, double dz, double dT) {
+  const double a = c.water[0].max[0], g = -c.gravity[1];
+  const Series front = reference_table("mm1952_n2sq2_a2.25in_front_table2.csv").series("T", "Z");
+  const Series height = reference_table("mm1952_n2sq2_a2.25in_height_table6.csv").series("tau", "H");
+  Series x, h;
+  if (dT > 0.0) {
+    x.t.push_back(0.0);
+    x.y.push_back(a - 0.5 * c.dx);
+  }
+  for (std::size_t i = 0; i < front.size(); ++i) {
+    x.t.push_back((front.t[i] - dT) / std::sqrt(2 * g / a));
+    x.y.push_back((front.y[i] + dz) * a - 0.5 * c.dx);
+  }
+  for (std::size_t i = 0; i < height.size(); ++i) {
+    h.t.push_back(height.t[i] / std::sqrt(g / a));
+    h.y.push_back(height.y[i] * 2 * a);
+  }
+  write_probe(dir, "front", "time,distance", x);
+  write_probe(dir, "column_height", "time,height", h);
+}
+
 }  // namespace
 
 TEST(Validation, MartinMoyceScalingRecoversTheDataThatWentIn) {
@@ -372,22 +397,9 @@ TEST(Validation, MartinMoyceScalingRecoversTheDataThatWentIn) {
   // evaluation must convert back (T = t sqrt(2g/a), Z = (x + dx/2)/a; tau = t sqrt(g/a), H = h/2a)
   // and find no difference; shifted by 0.1 in Z it must find 0.1.
   const Case c = *load_builtin_case("martin_moyce");
-  const double a = c.water[0].max[0], g = -c.gravity[1];
-  const Series front = reference_table("mm1952_n2sq2_a2.25in_front_table2.csv").series("T", "Z");
-  const Series height = reference_table("mm1952_n2sq2_a2.25in_height_table6.csv").series("tau", "H");
   for (double shift : {0.0, 0.1}) {
     TempDir dir;
-    Series x, h;
-    for (std::size_t i = 0; i < front.size(); ++i) {
-      x.t.push_back(front.t[i] / std::sqrt(2 * g / a));
-      x.y.push_back((front.y[i] + shift) * a - 0.5 * c.dx);
-    }
-    for (std::size_t i = 0; i < height.size(); ++i) {
-      h.t.push_back(height.t[i] / std::sqrt(g / a));
-      h.y.push_back(height.y[i] * 2 * a);
-    }
-    write_probe(dir.path, "front", "time,distance", x);
-    write_probe(dir.path, "column_height", "time,height", h);
+    write_martin_moyce_probes(dir.path, c, shift, 0.0);
     const ValidationResult r = evaluate_martin_moyce(c, dir.path, full_bounds());
     // The window T <= 3, the same moved in time, all points (T <= 3.33), the residual height.
     ASSERT_EQ(r.comparisons.size(), 4u);
@@ -412,24 +424,8 @@ TEST(Validation, TheMovedComparisonFindsADifferenceInTiming) {
   // Martin & Moyce's front 0.2 in T earlier than theirs (a faster release, say): the window's RMS is
   // large, and the comparison moved in time finds the 0.2 and nothing left.
   const Case c = *load_builtin_case("martin_moyce");
-  const double a = c.water[0].max[0], g = -c.gravity[1];
-  const Series front = reference_table("mm1952_n2sq2_a2.25in_front_table2.csv").series("T", "Z");
   TempDir dir;
-  Series x;
-  x.t.push_back(0.0);
-  x.y.push_back(a - 0.5 * c.dx);  // Z = 1 at T = 0
-  for (std::size_t i = 0; i < front.size(); ++i) {
-    x.t.push_back((front.t[i] - 0.2) / std::sqrt(2 * g / a));
-    x.y.push_back(front.y[i] * a - 0.5 * c.dx);
-  }
-  write_probe(dir.path, "front", "time,distance", x);
-  const Series height = reference_table("mm1952_n2sq2_a2.25in_height_table6.csv").series("tau", "H");
-  Series h;
-  for (std::size_t i = 0; i < height.size(); ++i) {
-    h.t.push_back(height.t[i] / std::sqrt(g / a));
-    h.y.push_back(height.y[i] * 2 * a);
-  }
-  write_probe(dir.path, "column_height", "time,height", h);
+  write_martin_moyce_probes(dir.path, c, 0.0, 0.2);
   const ValidationResult r = evaluate_martin_moyce(c, dir.path, full_bounds());
   ASSERT_EQ(r.comparisons[1].id, "front_window_moved");
   EXPECT_GT(r.comparisons[0].difference.rms, 0.15);
