@@ -180,6 +180,9 @@ TEST(QuickValidation, ReportsVariantsBesideTheMainRun) {
   const std::string table = read_text(dir / "stdout.txt");
   EXPECT_NE(table.find("adami = physics.wall_boundary=adami"), std::string::npos) << table;
   EXPECT_NE(table.find(fmt::format("{:.3f}", variant.at("buchner.pressure").first)), std::string::npos) << table;
+  // Beside the main run's moved row, the variant's RMS moved by its own best constant, and that constant.
+  ASSERT_TRUE(variant.count("buchner.pressure_moved"));
+  EXPECT_NE(table.find(fmt::format("{:.3f} (", variant.at("buchner.pressure_moved").first)), std::string::npos) << table;
 
   std::error_code ec;
   fs::remove_all(dir, ec);

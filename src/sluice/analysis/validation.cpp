@@ -185,7 +185,7 @@ Comparison moved_comparison(const Comparison& base, const Series& simulation, co
   const double later = lag.shift == 0.0 ? 0.0 : -lag.shift;
   return {base.id + "_moved", fmt::format("{} moved {:+.2f} in {}", base.quantity.substr(0, base.quantity.find(" = ")),
                                           later, time_symbol),
-          base.reference, base.window, compare(moved, reference, t_min, t_max)};
+          base.reference, base.window, compare(moved, reference, t_min, t_max), later};
 }
 
 namespace {
@@ -505,13 +505,16 @@ std::string csv_text(std::string text) {
   return text;
 }
 
-// A variant's RMS for the comparison `id` of case `case_name` (NaN, shown "-", where it has none).
-double variant_rms(const ValidationReport::Variant& v, const std::string& case_name, const std::string& id) {
+// A variant's cell beside the main run's comparison `id` of case `case_name`: its RMS ("-" where it
+// has none), and for a moved comparison its own move (the row's name gives the main run's).
+std::string variant_cell(const ValidationReport::Variant& v, const std::string& case_name, const std::string& id) {
   for (const auto& r : v.results)
     if (r.case_name == case_name)
       for (const auto& c : r.comparisons)
-        if (c.id == id) return c.difference.rms;
-  return std::numeric_limits<double>::quiet_NaN();
+        if (c.id == id)
+          return std::isnan(c.moved_by) ? number(c.difference.rms)
+                                        : fmt::format("{} ({:+.2f})", number(c.difference.rms), c.moved_by);
+  return number(std::numeric_limits<double>::quiet_NaN());
 }
 
 // A case's table of what ran: resolution, particles, steps, leaks, time, physics.
@@ -568,13 +571,13 @@ std::string checks_csv(const ValidationReport& report) {
 std::string validation_table(const ValidationReport& report) {
   std::string s = fmt::format("{:<14} {:<44} {:<14} {:>6} {:>8} {:>8}", "case", "quantity", "window", "points", "RMS",
                               "max");
-  for (const auto& v : report.variants) s += fmt::format(" {:>12}", v.variant.label);
+  for (const auto& v : report.variants) s += fmt::format(" {:>14}", v.variant.label);
   s += "\n";
   for (const auto& r : report.results)
     for (const auto& c : r.comparisons) {
       s += fmt::format("{:<14} {:<44} {:<14} {:>6} {:>8.3f} {:>8.3f}", r.case_name, c.quantity, c.window,
                        c.difference.points, c.difference.rms, c.difference.max_abs);
-      for (const auto& v : report.variants) s += fmt::format(" {:>12}", number(variant_rms(v, r.case_name, c.id)));
+      for (const auto& v : report.variants) s += fmt::format(" {:>14}", variant_cell(v, r.case_name, c.id));
       s += "\n";
     }
   if (!report.variants.empty()) {
@@ -602,7 +605,7 @@ std::string validation_html(const ValidationReport& report, const std::string& c
     for (const auto& c : r.comparisons) {
       rows.push_back({r.case_name, c.quantity, c.reference, c.window, r.resolution, std::to_string(c.difference.points),
                       number(c.difference.rms), number(c.difference.max_abs), number(c.difference.mean)});
-      for (const auto& v : report.variants) rows.back().push_back(number(variant_rms(v, r.case_name, c.id)));
+      for (const auto& v : report.variants) rows.back().push_back(variant_cell(v, r.case_name, c.id));
     }
   std::vector<std::string> header{"case", "quantity", "reference", "window", "resolution", "points", "RMS", "max |diff|",
                                   "mean diff"};

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <filesystem>
+#include <limits>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -40,6 +41,9 @@ struct Comparison {
   std::string reference;  // e.g. "Martin & Moyce (1952) Table 2"
   std::string window;     // e.g. "T <= 3"
   Difference difference;
+  // For a comparison moved in time (moved_comparison): by how much the simulation was moved, positive
+  // later, in the data's time unit; NaN for the others.
+  double moved_by = std::numeric_limits<double>::quiet_NaN();
 };
 
 // `base` again with the simulated curve moved in time by the constant s within +-max_shift (in steps
