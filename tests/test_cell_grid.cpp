@@ -4,6 +4,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <limits>
 #include <atomic>
 #include <random>
 #include <set>
@@ -82,6 +83,26 @@ TEST_P(CellGridBox, FindsTheSamePairsAsBruteForce) {
 
 INSTANTIATE_TEST_SUITE_P(WideAndTall, CellGridBox, ::testing::Values(false, true),
                          [](const auto& info) { return info.param ? "Tall" : "Wide"; });
+
+// A position that is not a number (a run gone unstable, before the guard sees it) must bin into a cell
+// of the grid: converting the NaN to a cell index is undefined, and wrote the counts out of bounds.
+TEST(CellGrid, PositionsThatAreNotNumbersBinIntoTheGrid) {
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  CellGrid<2> grid({0.0, 0.0}, {4.0, 2.0}, 0.5);
+  std::array<std::vector<double>, 2> x = {std::vector<double>{nan, 1.0, inf, -inf, 3.9, nan},
+                                          std::vector<double>{0.2, nan, 1.0, -inf, inf, -nan}};
+  for (int threads : {1, 2}) {
+    grid.bin(x, threads);
+    std::vector<std::uint32_t> order = grid.order();
+    std::sort(order.begin(), order.end());
+    for (std::uint32_t i = 0; i < order.size(); ++i) EXPECT_EQ(order[i], i);
+    for (std::uint32_t c : grid.cell_of()) EXPECT_LT(c, grid.cell_count());
+    EXPECT_EQ(grid.cell_start().back(), 6u);
+  }
+  EXPECT_EQ(grid.coordinate(nan, 0), 0);
+  EXPECT_EQ(grid.coordinate(inf, 0), grid.count(0) - 1);
+  EXPECT_EQ(grid.coordinate(-inf, 1), 0);
+}
 
 TEST(CellGrid, RejectsNonPositiveCellSize) {
   EXPECT_THROW(CellGrid<2>({0, 0}, {1, 1}, 0.0), std::invalid_argument);

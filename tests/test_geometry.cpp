@@ -123,9 +123,15 @@ TEST(Setup, HydrostaticStartMatchesTheTaitEquationAtDepth) {
   }
 }
 
-TEST(Setup, HydrostaticSqueezeGivesEachParticleTheWeightAboveItAndItsCompressedSpacing) {
+// gamma = 1 (k = 1 - 1/gamma = 0) is the limit of the closed form, which divided 0 by 0 there; gamma just
+// above 1 would lose all its digits to cancellation in it.
+class HydrostaticSqueeze : public ::testing::TestWithParam<double> {};
+INSTANTIATE_TEST_SUITE_P(Gamma, HydrostaticSqueeze, ::testing::Values(7.0, 1.0, 1.0 + 1e-9, 1.5));
+
+TEST_P(HydrostaticSqueeze, GivesEachParticleTheWeightAboveItAndItsCompressedSpacing) {
   Case c = *load_builtin_case("dam_break");  // c0 = 20 m/s: the 5 m column is 9 % denser at the bottom
   c.hydrostatic_squeeze = true;
+  c.gamma = GetParam();
   const sluice::Setup<2> s = build_setup<2>(c);
   expect_hydrostatic_columns(s, c, 100);
   // The squeezed height of a column H deep: D(H) = int_0^H rho0 / rho(rho0 g s) ds; 4.76 m for the 5 m
@@ -147,6 +153,14 @@ TEST(Setup, HydrostaticSqueezeGivesEachParticleTheWeightAboveItAndItsCompressedS
   EXPECT_NEAR(top_column, squeezed(5.0), 1e-3);
   EXPECT_NEAR(top_layer, squeezed(2.0), 1e-3);
   EXPECT_LT(top_column, 4.8);
+}
+
+TEST(TaitEos, ATensionOfTheStiffnessOrMoreHasZeroDensityNotNaN) {
+  const TaitEos eos{1000.0, 20.0, 7.0};
+  EXPECT_DOUBLE_EQ(eos.density(0.0), 1000.0);
+  EXPECT_GT(eos.density(-0.99 * eos.stiffness()), 0.0);
+  EXPECT_EQ(eos.density(-eos.stiffness()), 0.0);
+  EXPECT_EQ(eos.density(-10.0 * eos.stiffness()), 0.0);
 }
 
 TEST(Setup, WithoutHydrostaticStartTheWaterStaysOnTheLatticeAtRestDensity) {

@@ -28,6 +28,7 @@
 #include "sluice/io/frames.hpp"
 #include "sluice/io/npz.hpp"
 #include "sluice/io/probes.hpp"
+#include "sluice/io/run.hpp"
 #include "sluice/simulation.hpp"
 
 using namespace sluice;
@@ -606,6 +607,138 @@ TEST_F(CheckpointFile, TruncatedOrForeignFilesAreClearErrors) {
               std::string::npos)
         << message;
   }
+}
+
+// A checkpoint is input like a case file: a value no run can hold is refused (CaseError: exit status
+// 2), even where the checksum passes (a file made or altered by hand).
+namespace {
+
+// Where the data of a stored particle field starts: after its name, element type and component count.
+std::size_t field_data_at(const std::string& bytes, const Case& stored, std::string_view name) {
+  const std::string text = case_template(stored);
+  const auto case_at = bytes.find(text);
+  if (case_at == std::string::npos) return std::string::npos;
+  const std::string key = std::string(1, static_cast<char>(name.size())) + '\0' + std::string(name);
+  const auto at = bytes.find(key, case_at + text.size());
+  return at == std::string::npos ? at : at + key.size() + 2;
+}
+
+template <class F>
+std::string case_error_of(F&& f) {
+  try {
+    f();
+  } catch (const CaseError& e) {
+    return e.what();
+  } catch (const std::exception& e) {
+    return std::string("(not a CaseError) ") + e.what();
+  }
+  return "(no error)";
+}
+
+}  // namespace
+
+TEST_F(CheckpointFile, ANonFiniteParticleValueIsRefused) {
+  const std::size_t n = sim_->particle_count();
+  const std::size_t velocity = field_data_at(bytes_, sim_->config(), "velocity");
+  const std::size_t position = field_data_at(bytes_, sim_->config(), "position");
+  const std::size_t density = field_data_at(bytes_, sim_->config(), "density");
+  ASSERT_NE(velocity, std::string::npos);
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  const struct {
+    std::size_t at;
+    double value;
+    const char* expected;
+  } cases[] = {
+      {velocity + (n + 3) * sizeof(double), nan, "velocity component y is nan"},
+      {position + 5 * sizeof(double), inf, "position component x is inf"},
+      {density + 7 * sizeof(double), -1.0, "density -1 (id "},
+      {density + 8 * sizeof(double), 0.0, "density 0 (id "},
+  };
+  for (const auto& c : cases) {
+    std::string bad = bytes_;
+    std::memcpy(bad.data() + c.at, &c.value, sizeof(double));
+    const std::string message = case_error_of([&] { parse_checkpoint(with_crc_fixed(bad), "nan.bin"); });
+    EXPECT_NE(message.find("nan.bin: not a usable checkpoint: "), std::string::npos) << message;
+    EXPECT_NE(message.find(c.expected), std::string::npos) << message;
+  }
+}
+
+TEST_F(CheckpointFile, AStepCountNearTheLargestIntegerIsRefused) {
+  const std::string text = case_template(sim_->config());
+  const std::size_t step_at = bytes_.find(text) + text.size() + sizeof(double);
+  for (const std::int64_t step : {std::numeric_limits<std::int64_t>::max(), kLargestCount + 1, std::int64_t{-1}}) {
+    std::string bad = bytes_;
+    std::memcpy(bad.data() + step_at, &step, sizeof step);
+    const std::string message = case_error_of([&] { parse_checkpoint(with_crc_fixed(bad), "steps.bin"); });
+    EXPECT_NE(message.find(fmt::format("steps.bin: not a usable checkpoint: impossible clock (time {}, step {},",
+                                       sim_->time(), step)),
+              std::string::npos)
+        << message;
+  }
+  std::string largest = bytes_;
+  std::memcpy(largest.data() + step_at, &kLargestCount, sizeof kLargestCount);
+  EXPECT_EQ(parse_checkpoint(with_crc_fixed(largest), "ok.bin").clock.step, kLargestCount);
+}
+
+// The particles must be those the stored case makes: another dx (the stored case edited), a moved
+// wall particle or a water particle turned into wall are refused when the run is set up from it.
+TEST_F(CheckpointFile, ParticlesThatTheStoredCaseDoesNotMakeAreRefused) {
+  const std::string text = case_template(sim_->config());
+  const auto dx_at = bytes_.find("dx = 0.1\n", bytes_.find(text));
+  ASSERT_NE(dx_at, std::string::npos);
+  std::string other_dx = bytes_;
+  other_dx.replace(dx_at, 9, "dx = 0.2\n");
+  Checkpoint cp = parse_checkpoint(with_crc_fixed(other_dx), "dx.bin");
+  std::string message = case_error_of([&] { Simulation(cp.config, std::move(cp.particles), cp.clock, 1); });
+  EXPECT_NE(message.find(fmt::format("{} particles, where its case (domain.dx = 0.2 m) builds", sim_->particle_count())),
+            std::string::npos)
+      << message;
+
+  const Particles<2>& p = sim_->particles<2>();
+  std::size_t wall = 0, water = 0;
+  while (p.is_fluid(wall)) ++wall;
+  while (!p.is_fluid(water)) ++water;
+  const std::size_t position = field_data_at(bytes_, sim_->config(), "position");
+  std::string moved = bytes_;
+  const double x = p.position[0][wall] + 0.01;
+  std::memcpy(moved.data() + position + wall * sizeof(double), &x, sizeof x);
+  cp = parse_checkpoint(with_crc_fixed(moved), "moved.bin");
+  message = case_error_of([&] { Simulation(cp.config, std::move(cp.particles), cp.clock, 1); });
+  EXPECT_NE(message.find(fmt::format("wall particle id {} is at (", p.id[wall])), std::string::npos) << message;
+
+  const std::size_t kind = field_data_at(bytes_, sim_->config(), "kind");
+  std::string turned = bytes_;
+  turned[kind + water] = static_cast<char>(Kind::wall);
+  cp = parse_checkpoint(with_crc_fixed(turned), "kind.bin");
+  message = case_error_of([&] { Simulation(cp.config, std::move(cp.particles), cp.clock, 1); });
+  EXPECT_NE(message.find(fmt::format("particle id {} is a wall particle, where its case has water", p.id[water])),
+            std::string::npos)
+      << message;
+
+  // The checkpoint as written restarts.
+  cp = parse_checkpoint(bytes_, "good.bin");
+  EXPECT_NO_THROW(Simulation(cp.config, std::move(cp.particles), cp.clock, 1));
+}
+
+// A restart from a state the instability guard refuses (here a density of 3 rho0, which reads as a
+// positive finite number) is refused before anything is written, naming the file and the particle.
+TEST_F(CheckpointFile, ARestartFromAStateTheGuardRefusesWritesNothing) {
+  TempDir dir;
+  const std::size_t density = field_data_at(bytes_, sim_->config(), "density");
+  std::string bad = bytes_;
+  const double rho = 3.0 * sim_->config().rest_density;
+  std::memcpy(bad.data() + density + 4 * sizeof(double), &rho, sizeof rho);
+  const fs::path path = dir.path() / "checkpoint.bin";
+  write_file_atomic(path, with_crc_fixed(bad));
+  RunOptions options;
+  options.restart = path;
+  options.output_dir = dir.path() / "out";
+  options.progress = RunOptions::Progress::none;
+  std::ostringstream log;
+  const std::string message = case_error_of([&] { run_case(Case{}, options, log); });
+  EXPECT_NE(message.find(path.string() + ": not a usable checkpoint: 1 particle is bad"), std::string::npos) << message;
+  EXPECT_NE(message.find("density 3000 kg/m^3"), std::string::npos) << message;
+  EXPECT_FALSE(fs::exists(options.output_dir));
 }
 
 TEST_F(CheckpointFile, WrittenAtomicallyAndReadBack) {

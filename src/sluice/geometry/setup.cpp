@@ -199,7 +199,14 @@ void compress_columns(Particles<Dim>& p, const Case& c, const std::map<Column, d
   constexpr int up = Dim - 1;
   const TaitEos eos{c.rest_density, c.sound_speed, c.gamma};
   const double a = c.rest_density * -c.gravity[up] / eos.stiffness(), k = 1.0 - 1.0 / c.gamma;
-  auto compressed_depth = [&](double mu) { return mu <= 0.0 ? mu : (std::pow(1.0 + a * mu, k) - 1.0) / (a * k); };
+  // ((1 + a mu)^k - 1) / (a k); as k -> 0 (gamma -> 1) it tends to ln(1 + a mu) / a, which
+  // expm1(k ln(1 + a mu)) / (a k) reaches without cancellation (at k = 0 the limit itself).
+  auto compressed_depth = [&](double mu) {
+    if (mu <= 0.0) return mu;
+    if (std::abs(k) >= 1e-3) return (std::pow(1.0 + a * mu, k) - 1.0) / (a * k);
+    const double log_ratio = std::log1p(a * mu);
+    return k == 0.0 ? log_ratio / a : std::expm1(k * log_ratio) / (a * k);
+  };
   std::map<Column, std::vector<std::size_t>> columns;
   for (std::size_t i = 0; i < p.size(); ++i)
     if (p.is_fluid(i)) columns[column(i)].push_back(i);

@@ -9,6 +9,7 @@
 #include <optional>
 #include <type_traits>
 
+#include "sluice/case/case_error.hpp"
 #include "sluice/case/params.hpp"
 #include "sluice/io/atomic_file.hpp"
 #include "sluice/io/npz.hpp"
@@ -68,8 +69,14 @@ class Reader {
     return s;
   }
   [[nodiscard]] std::size_t remaining() const { return end_ - at_; }
+  // The file cannot be read as a checkpoint (damaged, truncated, another format): exit status 1.
   [[noreturn]] void fail(const std::string& what) const {
     throw FormatError(fmt::format("{}: not a usable checkpoint: {}", source_, what));
+  }
+  // The file reads, but a value in it is not one a run can hold (possible only in a file made or
+  // altered by hand, its checksum passing): refused as bad input, as a case file's value is.
+  [[noreturn]] void refuse(const std::string& what) const {
+    throw CaseError(fmt::format("{}: not a usable checkpoint: {}", source_, what));
   }
 
  private:
@@ -251,7 +258,7 @@ Checkpoint parse_checkpoint(const std::string& bytes, const std::string& source)
   // Version 2 (before the leapfrog) carries no rates.
   if (version >= 3) {
     const auto carried = r.get<std::uint8_t>();
-    if (carried > 1) r.fail(fmt::format("rates-carried flag {}, expected 0 or 1", carried));
+    if (carried > 1) r.refuse(fmt::format("rates-carried flag {}, expected 0 or 1", carried));
     cp.clock.rates_carried = carried == 1;
   }
   if (cp.clock.rates_carried) {
@@ -263,21 +270,24 @@ Checkpoint parse_checkpoint(const std::string& bytes, const std::string& source)
     auto usable_rate = [](double v) { return std::isfinite(v) && v >= 0.0; };
     if (!usable_rate(s.max_acceleration) || !usable_rate(s.max_relative_speed) || !usable_rate(s.max_density) ||
         !usable_rate(s.min_fluid_distance))
-      r.fail(fmt::format("impossible summary of the carried rates (max acceleration {}, max relative speed {}, max "
+      r.refuse(fmt::format("impossible summary of the carried rates (max acceleration {}, max relative speed {}, max "
                          "density {}, min distance {})",
                          s.max_acceleration, s.max_relative_speed, s.max_density, s.min_fluid_distance));
     if (cp.config.integrator != Integrator::leapfrog)
-      r.fail(fmt::format("rates carried over with the {} integrator (only the leapfrog carries them)",
+      r.refuse(fmt::format("rates carried over with the {} integrator (only the leapfrog carries them)",
                          name_of(cp.config.integrator, integrator_names)));
   }
   // Versions 2 and 3 (before outflow) removed no particles.
   if (version >= 4) cp.clock.outflow = r.get<std::int64_t>();
   // A run's clock starts at zero and only moves forward. A negative or non-finite time (possible only in
   // a crafted file, the CRC passing) made a restart step forever from t = -1e300 or run to "t = nan".
+  // Counts stay far below the largest 64-bit integer, so that adding a run's steps and leaks to them
+  // cannot overflow (a crafted INT64_MAX turned negative in the summary).
   auto usable = [](double v) { return std::isfinite(v) && v >= 0.0; };
-  if (!usable(cp.clock.time) || !usable(cp.clock.last_dt) || !usable(cp.wall_seconds) || cp.clock.step < 0 ||
-      cp.clock.leaks < 0 || cp.clock.outflow < 0)
-    r.fail(fmt::format("impossible clock (time {}, step {}, last dt {}, leaks {}, outflow {}, wall time {})",
+  auto countable = [](std::int64_t k) { return k >= 0 && k <= kLargestCount; };
+  if (!usable(cp.clock.time) || !usable(cp.clock.last_dt) || !usable(cp.wall_seconds) || !countable(cp.clock.step) ||
+      !countable(cp.clock.leaks) || !countable(cp.clock.outflow))
+    r.refuse(fmt::format("impossible clock (time {}, step {}, last dt {}, leaks {}, outflow {}, wall time {})",
                        cp.clock.time, cp.clock.step, cp.clock.last_dt, cp.clock.leaks, cp.clock.outflow,
                        cp.wall_seconds));
   const auto n = r.get<std::uint64_t>();
@@ -285,19 +295,42 @@ Checkpoint parse_checkpoint(const std::string& bytes, const std::string& source)
   if (n > r.remaining() / 40) r.fail("particle count does not match the file size");
   // The ids: distinct, below the particle count at the start (this count and those removed as outflow).
   if (static_cast<std::uint64_t>(cp.clock.outflow) > std::numeric_limits<std::uint32_t>::max())
-    r.fail(fmt::format("outflow {} is more particles than a run can hold", cp.clock.outflow));
+    r.refuse(fmt::format("outflow {} is more particles than a run can hold", cp.clock.outflow));
   const std::size_t ids = n + static_cast<std::size_t>(cp.clock.outflow);
   const auto check = [&](const auto& p) {
     if (r.remaining() != 0) r.fail("trailing bytes after the particle data");
-    for (std::size_t i = 0; i < n; ++i)
-      if (static_cast<std::uint8_t>(p.kind[i]) > 1) r.fail("unknown particle kind");
+    for (std::size_t i = 0; i < n; ++i) {
+      if (static_cast<std::uint8_t>(p.kind[i]) > 1)
+        r.refuse(fmt::format("unknown particle kind {} (id {})", static_cast<int>(p.kind[i]), p.id[i]));
+      if (p.needs_density_repair[i] > 1)
+        r.refuse(fmt::format("density-repair flag {} (id {}), expected 0 or 1", p.needs_density_repair[i], p.id[i]));
+      if (!(p.density[i] > 0.0) || !std::isfinite(p.density[i]))
+        r.refuse(fmt::format("density {} (id {}), expected a positive finite number", p.density[i], p.id[i]));
+    }
+    // Every stored number finite: a NaN position or velocity would run as far as the first step.
+    using P = std::remove_cvref_t<decltype(p)>;
+    P::fields(p, [&](const FieldSpec& info, const auto& field) {
+      using Element = typename std::remove_cvref_t<decltype(field)>::value_type;
+      if (!info.has(stored_roles(cp.clock.rates_carried))) return;
+      if constexpr (std::is_floating_point_v<Element>) {
+        for (std::size_t i = 0; i < n; ++i)
+          if (!std::isfinite(field[i]))
+            r.refuse(fmt::format("{} {} (id {}), expected a finite number", info.name, field[i], p.id[i]));
+      } else if constexpr (!std::is_arithmetic_v<Element> && !std::is_enum_v<Element>) {
+        for (std::size_t d = 0; d < field.size(); ++d)
+          for (std::size_t i = 0; i < n; ++i)
+            if (!std::isfinite(field[d][i]))
+              r.refuse(fmt::format("{} component {} is {} (id {}), expected a finite number", info.name, "xyz"[d],
+                                   field[d][i], p.id[i]));
+      }
+    });
     // Sorted rather than marked in a table of `ids` entries: a crafted outflow must not make the
     // check allocate gigabytes.
     std::vector<std::uint32_t> sorted = p.id;
     std::sort(sorted.begin(), sorted.end());
     const bool distinct = std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end();
     if (!distinct || (n > 0 && sorted.back() >= ids))
-      r.fail(cp.clock.outflow == 0 ? std::string("particle ids are not a permutation of 0..n-1")
+      r.refuse(cp.clock.outflow == 0 ? std::string("particle ids are not a permutation of 0..n-1")
                                    : fmt::format("particle ids are not distinct ids below {} (the {} particles and "
                                                  "the {} removed as outflow)",
                                                  ids, n, cp.clock.outflow));

@@ -27,6 +27,9 @@
 namespace sluice {
 
 inline constexpr std::uint32_t checkpoint_format_version = 4;
+// The largest step, leak or outflow count a checkpoint may hold: 2^53, far above any run's and far
+// below the largest 64-bit integer, so that a run's own counts add to it without overflow.
+inline constexpr std::int64_t kLargestCount = std::int64_t{1} << 53;
 
 struct Checkpoint {
   Case config;

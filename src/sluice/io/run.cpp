@@ -256,23 +256,26 @@ class Progress {
   double next_line_t_ = -1e300;
 };
 
+// "N particles are bad; the first:" and a line for each offender the check described.
+std::string describe_offenders(const Health& health) {
+  std::string m =
+      fmt::format("{} particle{} bad; the first:\n", health.offending, health.offending == 1 ? " is" : "s are");
+  auto vector = [](const Vec3& v, int dimension) {
+    std::string s = fmt::format("({:.4g}", v[0]);
+    for (int d = 1; d < dimension; ++d) s += fmt::format(", {:.4g}", v[d]);
+    return s + ")";
+  };
+  for (const Offender& o : health.first)
+    m += fmt::format("  id {} at {} m, velocity {} m/s, density {:.6g} kg/m^3, {} neighbours: {}\n", o.id,
+                     vector(o.position, o.dimension), vector(o.velocity, o.dimension), o.density, o.neighbours,
+                     o.reason);
+  return m;
+}
+
 std::string describe_instability(const std::string& failure, const Health& health, double time, std::int64_t step,
                                  const Simulation& good, std::int64_t frame, const std::filesystem::path& dir) {
   std::string m = fmt::format("the run became unstable at t = {:.6g} s (step {}): ", time, step);
-  if (!failure.empty()) {
-    m += failure + "\n";
-  } else {
-    m += fmt::format("{} particle{} bad; the first:\n", health.offending, health.offending == 1 ? " is" : "s are");
-    auto vector = [](const Vec3& v, int dimension) {
-      std::string s = fmt::format("({:.4g}", v[0]);
-      for (int d = 1; d < dimension; ++d) s += fmt::format(", {:.4g}", v[d]);
-      return s + ")";
-    };
-    for (const Offender& o : health.first)
-      m += fmt::format("  id {} at {} m, velocity {} m/s, density {:.6g} kg/m^3, {} neighbours: {}\n", o.id,
-                       vector(o.position, o.dimension), vector(o.velocity, o.dimension), o.density, o.neighbours,
-                       o.reason);
-  }
+  m += failure.empty() ? describe_offenders(health) : failure + "\n";
   m += fmt::format("The last good state (t = {:.6g} s, step {}) is saved as {}/frame_{:06} and {} in {}.\n",
                    good.time(), good.clock().step, output_files::frames_dir, frame, output_files::checkpoint,
                    dir.string());
@@ -313,8 +316,31 @@ Start start_from_checkpoint(const RunOptions& options) {
         "{}: the checkpoint is at t = {} s, already at the case's end (time.end = {} s); to run on, give a later "
         "end: sluice run --restart {} --set time.end=<seconds>",
         source, cp.clock.time, cp.config.end_time, source));
-  return {std::make_unique<Simulation>(cp.config, std::move(cp.particles), cp.clock, options.threads, options.comm),
-          cp.wall_seconds};
+  try {
+    return {std::make_unique<Simulation>(cp.config, std::move(cp.particles), cp.clock, options.threads, options.comm),
+            cp.wall_seconds};
+  } catch (const CaseError& e) {
+    throw CaseError(fmt::format("{}: not a usable checkpoint: {}", source, e.what()));
+  }
+}
+
+// The state a run starts from passes the instability guard, or the run does not start: a case whose
+// set-up is already unusable (water at an absurd hydrostatic density), or a checkpoint whose values
+// are not a state a run can reach (a crafted file whose checksum passes), is refused before anything
+// is written. Collective.
+void check_start(const Simulation& sim, const RunOptions& options) {
+  const Health health = sim.check_health();
+  if (health.ok()) return;
+  if (options.restart) {
+    std::string offenders = describe_offenders(health);
+    offenders.pop_back();  // its last line's newline
+    throw CaseError(fmt::format("{}: not a usable checkpoint: {}", options.restart->string(), offenders));
+  }
+  throw CaseError(fmt::format(
+      "the case's initial state is unusable: {}Usual causes: a sound speed (fluid.sound_speed) too low for the "
+      "water's depth under the hydrostatic start (physics.hydrostatic_start), or an initial pressure "
+      "(physics.initial_pressure) beyond what the equation of state allows.",
+      describe_offenders(health)));
 }
 
 void prepare_output_dir(const std::filesystem::path& dir, const std::string& case_name, bool fresh) {
@@ -591,6 +617,7 @@ RunResult run_case(const Case& requested, const RunOptions& options, std::ostrea
   const auto wall_start = steady::now();
   Start start = options.restart ? start_from_checkpoint(options)
                                 : Start{std::make_unique<Simulation>(requested, options.threads, options.comm)};
+  check_start(*start.sim, options);
   on_root(options.comm, [&] { prepare_output_dir(options.output_dir, start.sim->config().name, !options.restart); });
   Run run(std::move(start), options, log, wall_start);
   return run.to_end();

@@ -328,10 +328,12 @@ class CellGrid {
   }
   // floor((x - lower) / cell size), clamped to [0, count - 1]: clamped first, the conversion's
   // truncation is the floor (the values are then at least 0), with no floor call (the baseline x86-64
-  // has no rounding instruction, and GCC emulates it in ten).
+  // has no rounding instruction, and GCC emulates it in ten). A coordinate that is not a number goes
+  // to cell 0 (std::max(0.0, NaN) is 0.0; std::clamp would pass the NaN on, and converting it to int
+  // is undefined): the instability guard reports the particle after the step.
   [[nodiscard]] int grid_coordinate(double x, int k) const {
     const double c = (x - lower_[k]) * inv_cell_size_;
-    return static_cast<int>(std::clamp(c, 0.0, static_cast<double>(count_[k] - 1)));
+    return static_cast<int>(std::min(static_cast<double>(count_[k] - 1), std::max(0.0, c)));
   }
 
   // Along the grid's axes (k = 0 fastest): the space axis, the lower corner and the number of cells.

@@ -16,9 +16,11 @@ struct TaitEos {
     return stiffness() * (ipow_gamma(density / rest_density) - 1.0);
   }
 
-  // Inverse: the density at which the pressure is p.
+  // Inverse: the density at which the pressure is p. A tension of B or more (p <= -B) is reached only
+  // as the density goes to zero: 0 there (the power of a negative number would be NaN).
   [[nodiscard]] double density(double p) const {
-    return rest_density * std::pow(1.0 + p / stiffness(), 1.0 / gamma);
+    const double ratio = 1.0 + p / stiffness();
+    return ratio > 0.0 ? rest_density * std::pow(ratio, 1.0 / gamma) : 0.0;
   }
 
   // Local speed of sound c = c0 (rho/rho0)^((gamma-1)/2).

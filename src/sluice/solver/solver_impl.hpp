@@ -33,11 +33,52 @@ Solver<Dim>::Solver(const Case& c, int threads, const Communicator* comm) : thre
   distribute(comm);
 }
 
+// A saved state must be one its case made: as many particles as the case builds (less those removed
+// as outflow), each of the kind the case gave it, and the walls where the case puts them (walls do not
+// move). A state saved with another dx, tank or wall would otherwise run as if it were the case's.
+template <int Dim>
+void check_saved_particles_match(const Particles<Dim>& built, const Particles<Dim>& saved, std::int64_t outflow,
+                                 const Case& c) {
+  const std::size_t expected = built.size();
+  if (saved.size() + static_cast<std::size_t>(outflow) != expected)
+    throw CaseError(fmt::format(
+        "{} particles{}, where its case (domain.dx = {} m) builds {}: the particles were not made by the case "
+        "stored with them",
+        saved.size(), outflow > 0 ? fmt::format(" and {} removed as outflow", outflow) : std::string(), c.dx,
+        expected));
+  const double tolerance = 1e-6 * c.dx;
+  for (std::size_t i = 0; i < saved.size(); ++i) {
+    const std::uint32_t id = saved.id[i];
+    if (id >= expected) continue;  // the reader checked the ids; a crafted one is refused there
+    if (saved.kind[i] != built.kind[id])
+      throw CaseError(fmt::format("particle id {} is {}, where its case has {}: the particles were not made by the "
+                                  "case stored with them",
+                                  id, saved.is_fluid(i) ? "water" : "a wall particle",
+                                  built.is_fluid(id) ? "water" : "a wall particle"));
+    if (saved.is_fluid(i)) continue;
+    double off = 0.0;
+    for (int d = 0; d < Dim; ++d) off = std::max(off, std::abs(saved.position[d][i] - built.position[d][id]));
+    if (!(off <= tolerance)) {
+      std::string at, where;
+      for (int d = 0; d < Dim; ++d) {
+        at += fmt::format("{}{:.6g}", d ? ", " : "", saved.position[d][i]);
+        where += fmt::format("{}{:.6g}", d ? ", " : "", built.position[d][id]);
+      }
+      throw CaseError(fmt::format("wall particle id {} is at ({}) m, where its case (domain.dx = {} m) puts it at "
+                                  "({}) m: the particles were not made by the case stored with them",
+                                  id, at, c.dx, where));
+    }
+  }
+}
+
 template <int Dim>
 Solver<Dim>::Solver(const Case& c, Particles<Dim> particles, Clock clock, int threads, const Communicator* comm)
     : particles_(std::move(particles)), clock_(clock), threads_(std::max(1, threads)) {
-  // The wall geometry is rebuilt from the case; the particles come from the saved state.
-  solids_ = build_setup<Dim>(c).solids;
+  // The wall geometry is rebuilt from the case; the particles come from the saved state, which must
+  // be one the case made.
+  Setup<Dim> built = build_setup<Dim>(c);
+  check_saved_particles_match(built.particles, particles_, clock_.outflow, c);
+  solids_ = std::move(built.solids);
   init(c);
   distribute(comm);
 }
