@@ -218,6 +218,8 @@ def check_outputs_readable(directory, dimension=2):
             load_csv(path)
         elif name == "checkpoint.bin":
             check_checkpoint_file(path)
+        elif name == ".sluice.lock":
+            pass  # the output directory's lock, left by a killed run (io/directory_lock.hpp)
         elif name == "summary.txt":
             with open(path) as f:
                 check("output" in f.read(), f"{path}: incomplete summary")

@@ -91,6 +91,9 @@ def test_killed_runs_leave_only_complete_files_and_restart_exactly():
                 for t in temp_files(d):
                     check(t.startswith("summary.txt.tmp"), f"trial {trial}: killed after the last checkpoint, {t} left")
                     os.remove(os.path.join(d, t))
+                # Nor the lock of the output directory, which the next run there takes over.
+                if os.path.exists(os.path.join(d, ".sluice.lock")):
+                    os.remove(os.path.join(d, ".sluice.lock"))
                 p = None
                 break
             if os.path.exists(checkpoint):
@@ -143,5 +146,62 @@ def test_kill_right_after_a_checkpoint():
         assert_same_outputs(REFERENCE, d, f"killed after the checkpoint at {t} s and restarted vs uninterrupted")
 
 
+# A case with no checkpoints by simulated time: only the ones a run writes by the wall clock
+# (output.checkpoint_wall_interval, here 0.3 s) and at its end. The run takes several seconds.
+WALL_CASE = write_case(os.path.join(W, "wall_case.toml"), end=1.5, interval=0.02)
+WALL_SET = ("--set", "output.checkpoint_wall_interval=0.3", "--set", "domain.dx=0.08")
+
+
+def test_a_killed_run_restarts_from_its_wall_clock_checkpoint():
+    reference = os.path.join(W, "wall_reference")
+    run(args.sluice, WALL_CASE, "-o", reference, *WALL_SET)
+    d = os.path.join(W, "wall_killed")
+    checkpoint = os.path.join(d, "checkpoint.bin")
+    p = start(WALL_CASE, "-o", d, *WALL_SET)
+    while not os.path.exists(checkpoint) and p.poll() is None:
+        time.sleep(0.01)
+    time.sleep(rng.uniform(0.0, 0.5))
+    check(p.poll() is None, f"the run ended (status {p.returncode}) before it could be killed")
+    p.send_signal(signal.SIGKILL)
+    p.wait()
+    t = checkpoint_time(checkpoint)
+    check(0.0 < t < 1.5, f"the checkpoint by the wall clock is at t = {t} s")
+    check(run(args.sluice, "--restart", checkpoint).returncode == 0, "restart")
+    assert_same_outputs(reference, d, f"killed after a wall-clock checkpoint at t = {t} s and restarted vs uninterrupted")
+
+
+def test_sighup_stops_like_ctrl_c():
+    # A closed terminal or SSH session: the run stops after its step with its outputs and a checkpoint.
+    d = os.path.join(W, "hangup")
+    p = start(WALL_CASE, "-o", d, *WALL_SET)
+    while frames_out(d) < 3 and p.poll() is None:
+        time.sleep(0.01)
+    p.send_signal(signal.SIGHUP)
+    check(p.wait(timeout=120) == 130, f"status {p.returncode} after SIGHUP, expected 130")
+    check(os.path.exists(os.path.join(d, "checkpoint.bin")), "no checkpoint after SIGHUP")
+    check_outputs_readable(d)
+
+
+def test_one_run_per_output_directory():
+    d = os.path.join(W, "shared")
+    p = start(WALL_CASE, "-o", d, *WALL_SET)
+    while frames_out(d) < 1 and p.poll() is None:
+        time.sleep(0.01)
+    check(p.poll() is None, "the first run ended too soon")
+    for second in (["run", "-q", WALL_CASE, "-o", d], ["validate", "-q", "--quick", "-o", d]):
+        r = subprocess.run([args.sluice, *second], capture_output=True, text=True, timeout=120)
+        check(r.returncode == 1, f"{second[0]} into a directory in use: status {r.returncode}\n{r.stderr}")
+        check(f"sluice: error: {d}: the output directory is in use by 'sluice run " in r.stderr and
+              f"(process {p.pid} on " in r.stderr and "write to another directory (-o)" in r.stderr,
+              f"{second[0]}: unexpected message:\n{r.stderr}")
+    # A killed holder's lock is taken over; the next run ends with the directory as a run leaves it.
+    p.send_signal(signal.SIGKILL)
+    p.wait()
+    check(os.path.exists(os.path.join(d, ".sluice.lock")), "the killed run left no lock file to take over")
+    run(args.sluice, WALL_CASE, "-o", d, "--set", "time.end=0.05")
+    check(not os.path.exists(os.path.join(d, ".sluice.lock")), "the lock file outlived the run that held it")
+
+
 main([test_killed_runs_leave_only_complete_files_and_restart_exactly, test_kill_during_writes,
-      test_kill_right_after_a_checkpoint])
+      test_kill_right_after_a_checkpoint, test_a_killed_run_restarts_from_its_wall_clock_checkpoint,
+      test_sighup_stops_like_ctrl_c, test_one_run_per_output_directory])

@@ -135,7 +135,8 @@ def test_bad_checkpoints_are_clear_errors_and_change_nothing():
     other_version[8:12] = (99).to_bytes(4, "little")
     attempt(bytes(other_version), "not a usable checkpoint: format version 99, this sluice reads versions 2 to 4")
     attempt(b"time,step\n0,0\n" * 10, "it does not start with the sluice checkpoint signature")
-    attempt(None, "no such checkpoint file", name="missing.bin")
+    attempt(None, f"no such checkpoint file; {d} holds frames of a run that stopped before writing one", name="missing.bin")
+    attempt(None, "a run writes its checkpoint every output.checkpoint_wall_interval seconds", name="missing.bin")
     # The checkpoint is at the end of its run (0.5 s): continuing needs a later end.
     attempt(good, "already at the case's end (time.end = 0.5 s)", status=2)
     attempt(good, "--set domain.dx=0.2: a restart continues the case stored in", status=2,

@@ -11,6 +11,7 @@
 #include "sluice/analysis/waves.hpp"
 #include "sluice/case/overrides.hpp"
 #include "sluice/io/atomic_file.hpp"
+#include "sluice/io/directory_lock.hpp"
 #include "sluice/simulation.hpp"
 
 namespace fs = std::filesystem;
@@ -236,6 +237,7 @@ ConvergenceStudy run_convergence(const Case& base, const ConvergenceOptions& opt
   study.front_threshold = options.front_threshold;
 
   create_directories_or_throw(options.output_dir);
+  const DirectoryLock lock(options.output_dir, "sluice convergence " + base.name);  // one study per directory
   for (double dx : spacings) study.levels.push_back(run_level(level_case(base, dx, study), dx, study, options, log));
   compute_convergence_errors(study);
   write_outputs(study, options);

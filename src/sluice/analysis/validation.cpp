@@ -17,6 +17,7 @@
 #include "sluice/case/case_error.hpp"
 #include "sluice/case/overrides.hpp"
 #include "sluice/io/atomic_file.hpp"
+#include "sluice/io/directory_lock.hpp"
 
 namespace fs = std::filesystem;
 
@@ -778,6 +779,7 @@ ValidationReport run_validation(const ValidationOptions& options, std::ostream& 
     variant_cases.push_back(std::move(set));
   }
   create_directories_or_throw(options.output_dir);
+  const DirectoryLock lock(options.output_dir, "sluice validate");  // one study per directory
   // (The 2D cases come first in `names`, so a variant's results line up with the main run's.)
   const auto run_all = [&](const CaseSet& set, const fs::path& runs_dir, const std::string& label) {
     std::vector<ValidationResult> results;

@@ -62,7 +62,19 @@ int run(const RunArgs& a) {
     options.restart = a.restart;
     options.restart_overrides = a.sets;  // only time.end is accepted (checked by run_case)
     std::error_code ec;
-    if (!fs::is_regular_file(a.restart, ec)) throw IoError(fmt::format("{}: no such checkpoint file", a.restart));
+    if (!fs::is_regular_file(a.restart, ec)) {
+      const fs::path dir = fs::path(a.restart).parent_path();
+      const bool run_there = fs::is_directory(dir / output_files::frames_dir, ec);
+      throw IoError(fmt::format(
+          "{}: no such checkpoint file; {}a run writes its checkpoint every output.checkpoint_wall_interval seconds "
+          "of wall time (20 by default), at each output.checkpoint_interval of simulated time, at its end and when "
+          "stopped with Ctrl-C, SIGTERM or SIGHUP. Without one, run the case again from its start",
+          a.restart,
+          run_there ? fmt::format("{} holds frames of a run that stopped before writing one (killed within its "
+                                  "first checkpoint interval, or with checkpoints turned off); ",
+                                  (dir.empty() ? fs::path(".") : dir).string())
+                    : std::string()));
+    }
     options.output_dir = a.output.empty() ? fs::path(a.restart).parent_path() : fs::path(a.output);
     if (options.output_dir.empty()) options.output_dir = ".";
   } else {
@@ -73,8 +85,12 @@ int run(const RunArgs& a) {
   options.progress = a.quiet ? RunOptions::Progress::none
                              : (::isatty(::fileno(stderr)) ? RunOptions::Progress::tty : RunOptions::Progress::lines);
   options.stop_requested = &stop_requested;
+  options.command = options.restart ? "sluice run --restart" : "sluice run";
+  // Ctrl-C, a kill's SIGTERM and a closed terminal or SSH session's SIGHUP all stop the run after the
+  // current step, with its outputs and a checkpoint written.
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
+  std::signal(SIGHUP, on_signal);
 
   if (!a.quiet && root) {
     const std::string per = world != nullptr ? fmt::format(" on each of {} processes", world->size()) : "";

@@ -14,6 +14,7 @@
 #include "sluice/io/append_file.hpp"
 #include "sluice/io/atomic_file.hpp"
 #include "sluice/io/checkpoint.hpp"
+#include "sluice/io/directory_lock.hpp"
 #include "sluice/io/frames.hpp"
 #include "sluice/io/npz.hpp"
 #include "sluice/io/probes.hpp"
@@ -399,8 +400,14 @@ class Run {
         progress_(sim_->is_root() ? options.progress : RunOptions::Progress::none, log, sim_->time(), schedule_.end(),
                   sim_->particle_count()) {
     // The set-up's notes now, before a long run, and again in the summary.
-    if (sim_->is_root() && options.progress != RunOptions::Progress::none)
+    if (sim_->is_root() && options.progress != RunOptions::Progress::none) {
       for (const std::string& n : sim_->setup_notes()) log << "sluice: note: " << n << "\n";
+      if (checkpoint_wall_interval_ > 0.0)
+        log << fmt::format("sluice: a checkpoint every {:g} s of wall time (output.checkpoint_wall_interval) into {}; "
+                           "after a kill, `sluice run --restart {}` continues from it\n",
+                           checkpoint_wall_interval_, (options.output_dir / output_files::checkpoint).string(),
+                           (options.output_dir / output_files::checkpoint).string());
+    }
   }
 
   RunResult to_end() {
@@ -416,11 +423,14 @@ class Run {
         outputs_.write_frame(0, *sim_, 0.0);
       }
       loop_start_ = steady::now();
+      last_checkpoint_ = loop_start_;
       while (sim_->time() < schedule_.end()) {
-        if (stop_requested()) {
+        const Request request = requested();
+        if (request == Request::stop) {
           interrupted_ = true;
           break;
         }
+        if (request == Request::checkpoint) write_checkpoint();
         step();
         write_due_outputs();
         progress_.update(*sim_, steps_, seconds_since(loop_start_));
@@ -443,11 +453,29 @@ class Run {
  private:
   [[nodiscard]] double wall() const { return seconds_since(wall_start_); }
 
-  // Ctrl-C (or SIGTERM), on any process: every process stops after the same step.
-  [[nodiscard]] bool stop_requested() const {
-    const bool here = options_.stop_requested != nullptr && options_.stop_requested->load();
+  // What a step's end asks for, on any process, so that every process does it after the same step:
+  // a stop (Ctrl-C, SIGTERM, SIGHUP), which writes a checkpoint, or a checkpoint because
+  // output.checkpoint_wall_interval seconds of wall time have passed since the last (one reduction
+  // for both).
+  enum class Request { none = 0, checkpoint = 1, stop = 2 };
+  [[nodiscard]] Request requested() const {
+    Request here = Request::none;
+    if (options_.stop_requested != nullptr && options_.stop_requested->load()) here = Request::stop;
+    else if (checkpoint_wall_interval_ > 0.0 && seconds_since(last_checkpoint_) >= checkpoint_wall_interval_)
+      here = Request::checkpoint;
     if (options_.comm == nullptr) return here;
-    return options_.comm->reducer().max(here ? 1.0 : 0.0) > 0.0;
+    return static_cast<Request>(std::lround(options_.comm->reducer().max(static_cast<double>(here))));
+  }
+
+  // Writes a checkpoint now (the state at the end of the last step), and times it: the interval
+  // between the periodic ones is stretched to 50 times that, so that they cost at most 2 % of the run.
+  void write_checkpoint() {
+    const auto start = steady::now();
+    outputs_.write_checkpoint_file(*sim_, wall());
+    last_checkpoint_ = steady::now();
+    const double seconds = seconds_since(start);
+    if (checkpoint_wall_interval_ > 0.0)
+      checkpoint_wall_interval_ = std::max(sim_->config().checkpoint_wall_interval, 50.0 * seconds);
   }
 
   // The instability guard: if the step leaves any particle non-finite, far outside the tank or at an
@@ -533,7 +561,7 @@ class Run {
       schedule_.frame_written(t);
     }
     if (schedule_.checkpoint_due(t)) {
-      outputs_.write_checkpoint_file(*sim_, wall());
+      write_checkpoint();
       schedule_.checkpoint_written(t);
     }
   }
@@ -593,6 +621,8 @@ class Run {
   bool mid_step_ = false;        // in Simulation::step
   double bytes_before_ = 0.0, exchange_seconds_before_ = 0.0;  // the set-up's exchanges
   bool interrupted_ = false;
+  double checkpoint_wall_interval_ = sim_->config().checkpoint_wall_interval;  // 0: none while running
+  steady::time_point last_checkpoint_;
   // A restart's state at the checkpoint time is already on disk (or, at a non-frame time, needs no frame).
   bool frame_is_current_ = true;
 };
@@ -618,7 +648,13 @@ RunResult run_case(const Case& requested, const RunOptions& options, std::ostrea
   Start start = options.restart ? start_from_checkpoint(options)
                                 : Start{std::make_unique<Simulation>(requested, options.threads, options.comm)};
   check_start(*start.sim, options);
-  on_root(options.comm, [&] { prepare_output_dir(options.output_dir, start.sim->config().name, !options.restart); });
+  // Held until the run returns or throws: no second run writes into this directory meanwhile.
+  std::optional<DirectoryLock> lock;
+  on_root(options.comm, [&] {
+    create_directories_or_throw(options.output_dir);
+    lock.emplace(options.output_dir, fmt::format("{} {}", options.command, start.sim->config().name));
+    prepare_output_dir(options.output_dir, start.sim->config().name, !options.restart);
+  });
   Run run(std::move(start), options, log, wall_start);
   return run.to_end();
 }

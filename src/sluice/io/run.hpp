@@ -30,6 +30,9 @@ struct RunOptions {
   // The processes of an MPI run (null for one process): the particles are spread over them, the root
   // writes every output file and the progress, and an output error on the root stops every process.
   const Communicator* comm = nullptr;
+  // What the run is, as the output directory's lock names its holder to a second run refused there
+  // (io/directory_lock.hpp); the case's name is added.
+  std::string command = "sluice run";
 };
 
 // The run went unstable (non-finite values, particles far outside the tank, absurd densities). The
