@@ -540,3 +540,21 @@ TEST_F(Cli, AnUnusableInitialStateIsRefusedBeforeAnyOutput) {
                        "density outside (0.5, 2) rho0", "fluid.sound_speed"});
   expect_only({});
 }
+
+// Runaway outputs: an interval shorter than the time step (which would cut every step to it) or more
+// frames than output.max_frames is refused before anything is written.
+TEST_F(Cli, RunawayOutputsAreRefusedBeforeTheRun) {
+  expect_bad_input(sluice({"run", "dam_break", "--set", "output.interval=1e-9", "-q"}),
+                   {"output.interval = 1e-09 s is shorter than the time step (up to time.cfl h / c0 = 0.0026 s)",
+                    "expected output.interval >= 0.0026 s"});
+  expect_bad_input(sluice({"run", "dam_break", "--set", "time.dt=0.001", "--set", "output.checkpoint_interval=0.0005",
+                           "-q"}),
+                   {"output.checkpoint_interval = 0.0005 s is shorter than the time step (time.dt = 0.001 s)"});
+  expect_bad_input(sluice({"run", "dam_break", "--set", "output.interval=0.003", "-q"}),
+                   {"the run would write 10001 frames (time.end = 30 s every output.interval = 0.003 s), more than "
+                    "output.max_frames = 10000"});
+  expect_only({});
+  const Result r = sluice({"run", "dam_break", "--set", "output.interval=0.003", "--set", "time.end=0.006", "-q", "-o",
+                           "o"});
+  EXPECT_EQ(r.status, 0) << r.err;
+}

@@ -9,6 +9,7 @@ import re
 import resource
 import subprocess
 import sys
+import time
 
 from io_common import (arguments, check, check_outputs_readable, final_files, main, run, temp_files,
                        write_case)
@@ -44,7 +45,7 @@ def test_output_directory_that_cannot_be_created():
     expect_error(a_file, f"{a_file}: exists and is not a directory")
     # A directory in which nothing can be created (even by root): /proc/self exists, its sub-directories
     # (frames/, probes/) cannot.
-    expect_error("/proc/self", r"/proc/self/(frames|probes): cannot create directory \(")
+    expect_error("/proc/self", r"/proc/self/(frames|probes|\.sluice\.lock): cannot create( directory)? \(")
 
 
 def test_file_size_limit_is_a_clear_error():
@@ -70,26 +71,54 @@ def test_full_disk_in_a_private_tmpfs():
 
 
 def inner_full_disk():
+    # A run that plans more frames than the disk holds is refused before it writes anything.
     small = os.path.join(W, "small")
     os.makedirs(small)
     if subprocess.run(["mount", "-t", "tmpfs", "-o", "size=600k", "tmpfs", small], capture_output=True).returncode:
         sys.exit(77)
     d = os.path.join(small, "out")
-    r = expect_error(d, "No space left on device")
-    check(r.stderr.startswith(f"sluice: error: {d}/"), f"the message does not name the file:\n{r.stderr}")
+    r = expect_error(d, rf"{d}: the run would write about [0-9.e-]+ GB of frames \(11 frames of [0-9]+ particles\), "
+                        rf"and {small} has [0-9.e-]+ GB free")
+    check(not os.path.exists(d), f"a refused run left {final_files(d)}")
+    print(f"refused up front: {r.stderr.strip()}")
+
+    # The disk fills while the run goes (another process writes to it): the run stops with a clear
+    # error, and what it wrote before stays complete and readable.
+    room = os.path.join(W, "room")
+    os.makedirs(room)
+    if subprocess.run(["mount", "-t", "tmpfs", "-o", "size=40m", "tmpfs", room], capture_output=True).returncode:
+        sys.exit(77)
+    d = os.path.join(room, "out")
+    long_case = write_case(os.path.join(W, "long_case.toml"), end=30.0, interval=0.1)
+    p = subprocess.Popen([args.sluice, "run", "-q", "--threads", "1", long_case, "-o", d], stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE, text=True)
+    while p.poll() is None and not os.path.exists(os.path.join(d, "frames", "frame_000002.vtu")):
+        time.sleep(0.005)
+    try:
+        with open(os.path.join(room, "filler"), "wb") as f:
+            while True:
+                f.write(b"\0" * 65536)
+                f.flush()
+    except OSError:
+        pass
+    out, err = p.communicate(timeout=600)
+    check(p.returncode == 1, f"status {p.returncode} on a full disk\n{err}")
+    check(err.startswith(f"sluice: error: {d}/") and "No space left on device" in err,
+          f"the message does not name the file and the reason:\n{err}")
+    check(out == "", f"a failed run printed a summary:\n{out}")
     names = check_outputs_readable(d)
     frames = [n for n in names if n.endswith(".npz")]
     check(len(frames) >= 2, f"expected the failure mid-run, after some frames: {names}")
     check(temp_files(d) == [], f"temporary files left: {temp_files(d)}")
-    print(f"disk full after {len(frames)} frames: {r.stderr.strip()}")
+    print(f"disk full after {len(frames)} frames: {err.strip()}")
 
 
 def inner_read_only():
     ro = os.path.join(W, "read_only")
     os.makedirs(ro)
-    if subprocess.run(["mount", "-t", "tmpfs", "-o", "ro,size=100k", "tmpfs", ro], capture_output=True).returncode:
+    if subprocess.run(["mount", "-t", "tmpfs", "-o", "ro,size=10m", "tmpfs", ro], capture_output=True).returncode:
         sys.exit(77)
-    expect_error(ro, rf"{ro}/(frames|probes): cannot create directory \(Read-only file system\)")
+    expect_error(ro, rf"{ro}/(frames|probes|\.sluice\.lock): cannot create( directory)? \(Read-only file system\)")
 
 
 if INNER:

@@ -131,6 +131,7 @@ struct Case {
   double output_interval = 0.0;
   std::vector<std::string> output_formats;  // of "vtk", "npz"
   double checkpoint_interval = 0.0;         // 0 = only at the end
+  int max_frames = 10000;                   // a run planning more frames is refused (a mistyped interval)
   double checkpoint_wall_interval = 20.0;   // wall-clock seconds between checkpoints while running; 0 = none
 
   std::vector<Region> water;

@@ -208,6 +208,9 @@ const std::vector<Param<Case>>& case_params() {
               unbounded_upper, "Frame formats: vtk (ParaView .vtu + .pvd) and npz (NumPy).", {"vtk", "npz"}),
       declare("output.checkpoint_interval", &Case::checkpoint_interval, "s", 0.0, 0.0, inf,
               "Simulated time between checkpoints; 0 = only at the end (and on Ctrl-C)."),
+      declare("output.max_frames", &Case::max_frames, "", 10000, 1.0, 1e9,
+              "The most frames a run may plan to write (time.end / output.interval): a run planning more is "
+              "refused before it starts, so that a mistyped interval does not fill the disk. Raise it to write more."),
       declare("output.checkpoint_wall_interval", &Case::checkpoint_wall_interval, "s", 20.0, 0.0, inf,
               "Wall-clock time between the checkpoints a run writes as it goes (each replaces the last), so that a "
               "run that is killed can be restarted from at most this long ago; 0 = none. Stretched to 50 times "

@@ -43,8 +43,7 @@ DirectoryLock::DirectoryLock(const std::filesystem::path& dir, const std::string
   for (;;) {
     fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
     if (fd_ < 0)
-      throw IoError(fmt::format("{}: cannot create the output directory's lock file: {}", path_.string(),
-                                std::strerror(errno)));
+      throw IoError(fmt::format("{}: cannot create ({})", path_.string(), std::strerror(errno)));
     if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
       const int error = errno;
       if (error == EWOULDBLOCK) {

@@ -344,6 +344,58 @@ void check_start(const Simulation& sim, const RunOptions& options) {
       describe_offenders(health)));
 }
 
+// What a run will write, checked before it starts. Steps land on the frame and checkpoint times, so
+// an interval shorter than the longest step the case can take (time.cfl h / c0, or time.dt: the
+// adaptive step never exceeds it, as the sound speed is at least c0) would cut every step to that
+// interval and write a frame at each: refused, as are more frames than output.max_frames. Every
+// process decides alike, from the case.
+void check_output_plan(const Simulation& sim) {
+  const Case& c = sim.config();
+  const double longest_step = c.fixed_dt > 0.0 ? c.fixed_dt : c.cfl * c.smoothing_length() / c.sound_speed;
+  const std::string step_is = c.fixed_dt > 0.0 ? fmt::format("time.dt = {:.3g} s", longest_step)
+                                               : fmt::format("up to time.cfl h / c0 = {:.3g} s", longest_step);
+  for (const auto& [key, interval] : {std::pair{"output.interval", c.output_interval},
+                                      std::pair{"output.checkpoint_interval", c.checkpoint_interval}})
+    if (interval > 0.0 && interval < longest_step)
+      throw CaseError(fmt::format(
+          "{} = {:.3g} s is shorter than the time step ({}): every step would be cut to {:.3g} s to land on "
+          "it; expected {} >= {:.3g} s (a step's length)",
+          key, interval, step_is, interval, key, longest_step));
+  const double remaining = std::max(0.0, stop_time(c) - sim.time());
+  const double frames = std::floor(remaining / c.output_interval) + 1.0;
+  if (frames > static_cast<double>(c.max_frames))
+    throw CaseError(fmt::format(
+        "the run would write {:.0f} frames (time.end = {} s every output.interval = {} s), more than "
+        "output.max_frames = {}; expected a longer output.interval, or a larger output.max_frames to write that "
+        "many",
+        frames, c.end_time, c.output_interval, c.max_frames));
+}
+
+// The bytes of the frames a run plans to write: the .npz holds x, v (Dim components each), rho and p as
+// doubles, kind (1 byte) and id (4) per particle; the .vtu the same with 3 components for x and v, and
+// its cells (about 90 bytes a particle).
+double planned_frame_bytes(const Simulation& sim) {
+  const Case& c = sim.config();
+  const double remaining = std::max(0.0, stop_time(c) - sim.time());
+  const double frames = std::floor(remaining / c.output_interval) + 1.0;
+  const double dim = c.dimension;
+  const double per_particle = (c.writes("npz") ? 8.0 * (2.0 * dim + 2.0) + 5.0 : 0.0) + (c.writes("vtk") ? 90.0 : 0.0);
+  return frames * per_particle * static_cast<double>(sim.particle_count());
+}
+
+// The output directory (existing) has room for the frames planned, or the run does not start.
+void check_room(const std::filesystem::path& dir, double bytes, const Simulation& sim) {
+  std::error_code ec;
+  const std::filesystem::space_info space = std::filesystem::space(dir, ec);
+  if (ec || space.capacity == 0 || bytes <= static_cast<double>(space.available)) return;  // (/proc: no size)
+  const Case& c = sim.config();
+  throw IoError(fmt::format(
+      "{}: the run would write about {:.3g} GB of frames ({:.0f} frames of {} particles), and {} has {:.3g} GB "
+      "free; expected a longer output.interval, fewer output.formats, or more room",
+      dir.string(), bytes * 1e-9, std::floor(std::max(0.0, stop_time(c) - sim.time()) / c.output_interval) + 1.0,
+      sim.particle_count(), dir.parent_path().string(), static_cast<double>(space.available) * 1e-9));
+}
+
 void prepare_output_dir(const std::filesystem::path& dir, const std::string& case_name, bool fresh) {
   create_directories_or_throw(dir);
   for (const char* sub : {".", output_files::frames_dir, output_files::probes_dir})
@@ -648,10 +700,20 @@ RunResult run_case(const Case& requested, const RunOptions& options, std::ostrea
   Start start = options.restart ? start_from_checkpoint(options)
                                 : Start{std::make_unique<Simulation>(requested, options.threads, options.comm)};
   check_start(*start.sim, options);
+  check_output_plan(*start.sim);
+  const double bytes = planned_frame_bytes(*start.sim);
   // Held until the run returns or throws: no second run writes into this directory meanwhile.
   std::optional<DirectoryLock> lock;
   on_root(options.comm, [&] {
+    std::error_code ec;
+    const bool existed = std::filesystem::exists(options.output_dir, ec);
     create_directories_or_throw(options.output_dir);
+    try {
+      check_room(options.output_dir, bytes, *start.sim);
+    } catch (const IoError&) {
+      if (!existed) std::filesystem::remove(options.output_dir, ec);
+      throw;
+    }
     lock.emplace(options.output_dir, fmt::format("{} {}", options.command, start.sim->config().name));
     prepare_output_dir(options.output_dir, start.sim->config().name, !options.restart);
   });
