@@ -120,7 +120,7 @@ def test_an_output_error_stops_every_process_with_one_message():
 
 def test_an_unstable_run_stops_every_process_and_keeps_the_last_good_state():
     d = os.path.join(W, "unstable")
-    r = mpirun(2, CASE, "-o", d, "--set", "time.dt=0.2", expect=1, timeout=120)
+    r = mpirun(2, CASE, "-o", d, "--set", "time.dt=0.2", "--set", "output.interval=0.2", expect=1, timeout=120)
     check(r.stderr.count("became unstable") == 1, f"one instability message expected:\n{r.stderr}")
     check(os.path.exists(os.path.join(d, "checkpoint.bin")), "no checkpoint of the last good state")
     check_outputs_readable(d)

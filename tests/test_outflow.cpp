@@ -13,6 +13,7 @@
 
 #include "physics_cases.hpp"
 #include "sluice/core/particles.hpp"
+#include "sluice/case/case_error.hpp"
 #include "sluice/io/checkpoint.hpp"
 #include "sluice/io/frames.hpp"
 #include "sluice/io/npz.hpp"
@@ -160,7 +161,7 @@ TEST_P(OutflowRestart, ContinuesExactly) {
   try {
     parse_checkpoint(lying, "lying.bin");
     ADD_FAILURE() << "a checkpoint whose ids do not fit its count was read";
-  } catch (const FormatError& e) {
+  } catch (const CaseError& e) {  // the file reads; a value in it is refused (exit status 2)
     EXPECT_NE(std::string(e.what()).find("lying.bin: not a usable checkpoint: particle ids are not a permutation"),
               std::string::npos)
         << e.what();

@@ -33,6 +33,7 @@ struct Command {
 Command add_run_command(CLI::App& app);
 Command add_cases_command(CLI::App& app);
 Command add_init_command(CLI::App& app);
+Command add_keys_command(CLI::App& app);        // keys_command.cpp
 Command add_render_command(CLI::App& app);
 Command add_analyze_command(CLI::App& app);      // analysis_commands.cpp
 Command add_convergence_command(CLI::App& app);  // analysis_commands.cpp

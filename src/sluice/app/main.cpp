@@ -127,6 +127,7 @@ int main(int argc, char** argv) {
       app::add_run_command(cli),
       app::add_cases_command(cli),
       app::add_init_command(cli),
+      app::add_keys_command(cli),
       app::add_render_command(cli),
       app::add_analyze_command(cli),
       app::add_convergence_command(cli),
