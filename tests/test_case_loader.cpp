@@ -693,6 +693,34 @@ TEST(CaseValidation, Probes) {
                   {"direction must not be [0.0, 0.0]"});
 }
 
+// A pressure probe or a gauge outside the tank finds no water and records zeros: refused, as water
+// outside the tank is, for every type of probe (a front measures from its point).
+TEST(CaseValidation, ProbesOutsideTheTank) {
+  const std::string tank = "[tank]\nwidth = 2.0\nheight = 1.5\n" + minimal_water;
+  expect_contains(parse_error(tank + "[[probe]]\nname = \"far\"\ntype = \"pressure\"\npoint = [5.0, 0.1]\n"),
+                  {"test.toml: [[probe]] \"far\" (a pressure probe at [5.0, 0.1]) lies outside the tank [0, 2] x [0, 1.5]",
+                   "x = 5 is not within [0, 2]", "expected a point inside the tank"});
+  expect_contains(parse_error(tank + "[[probe]]\nname = \"g\"\ntype = \"gauge\"\npoint = [-0.5, 0.0]\n"),
+                  {"[[probe]] \"g\" (a gauge on the vertical line through [-0.5, 0.0]) lies outside the tank",
+                   "x = -0.5 is not within [0, 2]"});
+  expect_contains(parse_error(tank + "[[probe]]\nname = \"g\"\ntype = \"gauge\"\npoint = [1.0, 1.6]\nmeasure = \"column\"\n"),
+                  {"[[probe]] \"g\"", "y = 1.6 is not within [0, 1.5]"});
+  expect_contains(parse_error(tank + "[[probe]]\nname = \"f\"\ntype = \"front\"\npoint = [0.0, -1.0]\n"),
+                  {"[[probe]] \"f\" (a front probe measuring from [0.0, -1.0]) lies outside the tank"});
+  const std::string tank_3d = "[domain]\ndimension = 3\n[tank]\nwidth = 2.0\ndepth = 1.0\nheight = 1.5\n"
+                              "[[water]]\nmin = [0, 0, 0]\nmax = [0.5, 1.0, 0.6]\n";
+  expect_contains(parse_error(tank_3d + "[[probe]]\nname = \"p\"\ntype = \"pressure\"\npoint = [1.0, 1.2, 0.5]\n"),
+                  {"[[probe]] \"p\"", "lies outside the tank [0, 2] x [0, 1] x [0, 1.5]", "y = 1.2 is not within [0, 1]"});
+  // On the walls (a wall pressure sensor, a gauge at the back wall) and in the corners: accepted.
+  EXPECT_NO_THROW(parse(tank + "[[probe]]\nname = \"wall\"\ntype = \"pressure\"\npoint = [2.0, 0.1]\n"
+                               "[[probe]]\nname = \"back\"\ntype = \"gauge\"\npoint = [0.0, 0.0]\n"
+                               "[[probe]]\nname = \"corner\"\ntype = \"front\"\npoint = [2.0, 1.5]\n"));
+  // A --set that moves a probe out, or shrinks the tank under one, is refused too.
+  Case c = parse(tank + "[[probe]]\nname = \"p\"\ntype = \"pressure\"\npoint = [1.5, 0.1]\n");
+  expect_contains(override_error(c, "probe[0].point=[2.5, 0.1]"), {"[[probe]] \"p\"", "lies outside the tank"});
+  expect_contains(override_error(c, "tank.width=1.2"), {"[[probe]] \"p\"", "lies outside the tank [0, 1.2] x [0, 1.5]"});
+}
+
 TEST(CaseValidation, CaseNameIsAUsableFolderName) {
   for (const char* bad : {"\"\"", "\".\"", "\"..\"", "\"a/b\"", "\"a\\\\b\"", "\"a\\nb\""})
     expect_contains(parse_error(fmt::format("[case]\nname = {}\n", bad) + minimal_water),

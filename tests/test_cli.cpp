@@ -282,6 +282,18 @@ TEST_F(Cli, InconsistentCaseFile) {
   EXPECT_FALSE(fs::exists(dir_ / "escape"));
 }
 
+// A probe outside the tank would record zeros for the whole run.
+TEST_F(Cli, ProbeOutsideTheTank) {
+  write("bad.toml", "[tank]\nwidth = 2.0\nheight = 1.5\n" + minimal_water +
+                        "[[probe]]\nname = \"far\"\ntype = \"pressure\"\npoint = [5.0, 0.1]\n");
+  expect_bad_input(sluice(with_tiny({"run", "bad.toml"})),
+                   {"bad.toml: [[probe]] \"far\" (a pressure probe at [5.0, 0.1]) lies outside the tank [0, 2] x [0, 1.5]"});
+  expect_bad_input(sluice({"run", "sloshing", "--set", "probe[1].point=[2.5, 0]", "-q"}),
+                   {"--set probe[1].point=[2.5, 0]", "[[probe]] \"gauge_right\" (a gauge on the vertical line through "
+                    "[2.5, 0.0]) lies outside the tank [0, 2] x [0, 1.5]"});
+  expect_only({"bad.toml"});
+}
+
 TEST_F(Cli, MissingCaseFile) {
   expect_bad_input(sluice(with_tiny({"run", "nope.toml", "-o", "o"})), {"nope.toml", "no such case file", "sluice cases"});
   expect_only({});

@@ -150,7 +150,27 @@ struct Checker {
       if (!names.insert(p.name).second) fail(fmt::format("[[probe]] name \"{}\" is used twice", p.name));
       if (p.type == ProbeType::front && norm(p.direction) == 0.0)
         fail(fmt::format("[[probe]] \"{}\": direction must not be {}", p.name, format_vector(p.direction, c.dimension)));
+      check_probe_inside_tank(p);
     }
+  }
+
+  // Every probe samples the particles around its point (a pressure probe), on the vertical line
+  // through it from its foot (a gauge) or measures from it (a front): outside the tank a pressure
+  // probe or a gauge finds no water and records zeros for the whole run.
+  void check_probe_inside_tank(const Probe& p) const {
+    const Vec3 tank = c.tank_size();
+    const double tol = 1e-9 * *std::max_element(tank.begin(), tank.begin() + c.dimension);
+    std::vector<std::string> extent;
+    for (int d = 0; d < c.dimension; ++d) extent.push_back(fmt::format("[0, {}]", tank[d]));
+    const std::string at = format_vector(p.point, c.dimension);
+    const std::string what = p.type == ProbeType::pressure ? "a pressure probe at " + at
+                             : p.type == ProbeType::gauge  ? "a gauge on the vertical line through " + at
+                                                           : "a front probe measuring from " + at;
+    for (int d = 0; d < c.dimension; ++d)
+      if (!(p.point[d] >= -tol && p.point[d] <= tank[d] + tol))
+        fail(fmt::format("[[probe]] {} ({}) lies outside the tank {}: {} = {} is not within [0, {}]; expected a point "
+                         "inside the tank",
+                         quote(p.name), what, fmt::join(extent, " x "), "xyz"[d], p.point[d], tank[d]));
   }
 
   // The wall function replaces the wall friction: it adds to walls that have none of their own, and
