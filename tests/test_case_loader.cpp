@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
@@ -922,6 +923,65 @@ TEST(CaseRegions, PolygonsParseAndShapeKeysAreCheckedBothWays) {
                   {"wall[0].points", "an array of points"});
   expect_contains(parse_error(minimal_water + "[[wall]]\nmin = [0, 0]\nmax = [1, 1]\npoints = [[0, 0], [1, 0], [1, 1]]\n"),
                   {"gives 'points', which a box does not use"});
+}
+
+// A polygon whose edges cross or touch has no single inside: the set-up would fill and wall it
+// wrongly. So is a repeated point (an edge of no length, or the polygon touching itself).
+TEST(CaseRegions, PolygonsMustBeSimple) {
+  const auto polygon = [](const std::string& section, const std::string& points) {
+    return parse_error(minimal_water + "[[" + section + "]]\nshape = \"polygon\"\npoints = " + points + "\n");
+  };
+  expect_contains(polygon("wall", "[[0, 0], [1, 0], [0, 1], [1, 1]]"),
+                  {"test.toml: [[wall]] number 1: the polygon crosses itself: edge 2 (from (1, 0) to (0, 1)) crosses "
+                   "edge 4 (from (1, 1) to (0, 0))",
+                   "expected a simple polygon, whose edges meet only at the corners they share"});
+  expect_contains(polygon("water", "[[0, 0], [1, 0], [0, 1], [1, 1]]"), {"[[water]] number 2: the polygon crosses itself"});
+  // A corner on another edge, and an edge that turns back along the one before it.
+  expect_contains(polygon("wall", "[[0, 0], [4, 0], [4, 2], [2, 0], [0, 2]]"),
+                  {"the polygon touches itself: edge 1 (from (0, 0) to (4, 0)) touches edge 3 (from (4, 2) to (2, 0))"});
+  expect_contains(polygon("wall", "[[0, 0], [2, 0], [2, 2], [2, 1], [0, 2]]"),
+                  {"the polygon touches itself: edge 2 (from (2, 0) to (2, 2)) touches edge 4 (from (2, 1) to (0, 2))"});
+  expect_contains(polygon("wall", "[[0.1, 0.1], [0.7, 0.3], [0.4, 0.2], [0.3, 0.9]]"), {"the polygon touches itself"});
+  // Repeated points: the first again at the end, two in a row, and one that comes back later.
+  expect_contains(polygon("wall", "[[0, 0], [1, 0], [1, 1], [0, 0]]"),
+                  {"[[wall]] number 1: points 1 and 4 are the same point (0, 0), so that edge 4 has no length",
+                   "the first point is not repeated at the end"});
+  expect_contains(polygon("wall", "[[0, 0], [1, 0], [1, 0], [1, 1]]"),
+                  {"points 2 and 3 are the same point (1, 0), so that edge 2 has no length"});
+  expect_contains(polygon("wall", "[[0, 0], [2, 0], [1, 1], [2, 2], [0, 2], [1, 1]]"),
+                  {"points 3 and 6 are the same point (1, 1): the polygon touches itself there"});
+  // Convex and concave polygons, and a thin one, are simple.
+  EXPECT_NO_THROW(parse(minimal_water + "[[wall]]\nshape = \"polygon\"\npoints = [[12, 0], [20, 0], [20, 4]]\n"));
+  EXPECT_NO_THROW(parse(minimal_water + "[[wall]]\nshape = \"polygon\"\npoints = [[0, 0], [4, 0], [4, 2], [2, 1], [0, 2]]\n"));
+  EXPECT_NO_THROW(parse(minimal_water + "[[wall]]\nshape = \"polygon\"\npoints = [[0, 0], [10, 0], [10, 1e-6], [0, 1e-6]]\n"));
+}
+
+// Every pair of edges is checked: a polygon of a few thousand points (a finely drawn circle) still
+// loads at once.
+TEST(CaseRegions, ALargeSimplePolygonChecksQuickly) {
+  const int n = 5000;
+  std::string points;
+  for (int k = 0; k < n; ++k) {
+    const double angle = 2.0 * 3.141592653589793 * k / n;
+    points += fmt::format("{}[{}, {}]", k == 0 ? "" : ", ", 5.0 + 2.0 * std::cos(angle), 5.0 + 2.0 * std::sin(angle));
+  }
+  const std::string text = minimal_water + "[[wall]]\nshape = \"polygon\"\npoints = [" + points + "]\n";
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_NO_THROW(parse(text));
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_LT(seconds, 1.0);
+  // The same circle with two of its points swapped crosses itself.
+  std::string swapped = text;
+  const std::string a = fmt::format("[{}, {}]", 5.0 + 2.0 * std::cos(2.0 * 3.141592653589793 * 100 / n),
+                                    5.0 + 2.0 * std::sin(2.0 * 3.141592653589793 * 100 / n));
+  const std::string b = fmt::format("[{}, {}]", 5.0 + 2.0 * std::cos(2.0 * 3.141592653589793 * 101 / n),
+                                    5.0 + 2.0 * std::sin(2.0 * 3.141592653589793 * 101 / n));
+  const auto at_a = swapped.find(a), at_b = swapped.find(b);
+  ASSERT_NE(at_a, std::string::npos);
+  ASSERT_NE(at_b, std::string::npos);
+  swapped.replace(at_b, b.size(), a);
+  swapped.replace(at_a, a.size(), b);
+  expect_contains(parse_error(swapped), {"the polygon crosses itself: edge 100 ", "crosses edge 102 "});
 }
 
 // ---------------------------------------------------------------------------------------------

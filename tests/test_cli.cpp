@@ -294,6 +294,16 @@ TEST_F(Cli, ProbeOutsideTheTank) {
   expect_only({"bad.toml"});
 }
 
+// A polygon whose edges cross has no single inside; the set-up would build a broken solid.
+TEST_F(Cli, SelfIntersectingPolygon) {
+  write("bad.toml", "[tank]\nwidth = 2.0\nheight = 1.5\n" + minimal_water +
+                        "[[wall]]\nshape = \"polygon\"\npoints = [[1.0, 0.0], [1.6, 0.0], [1.0, 0.5], [1.3, 0.5]]\n");
+  expect_bad_input(sluice(with_tiny({"run", "bad.toml"})),
+                   {"bad.toml: [[wall]] number 1: the polygon crosses itself: edge 2 (from (1.6, 0) to (1, 0.5)) "
+                    "crosses edge 4 (from (1.3, 0.5) to (1, 0))"});
+  expect_only({"bad.toml"});
+}
+
 TEST_F(Cli, MissingCaseFile) {
   expect_bad_input(sluice(with_tiny({"run", "nope.toml", "-o", "o"})), {"nope.toml", "no such case file", "sluice cases"});
   expect_only({});
