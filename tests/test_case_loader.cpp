@@ -729,6 +729,22 @@ TEST(CaseValidation, CaseNameIsAUsableFolderName) {
   EXPECT_EQ(parse("[case]\nname = \"tank 2 (fine)\"\n" + minimal_water).name, "tank 2 (fine)");
 }
 
+// The name is a file name (<name>.pvd, written through <name>.pvd.tmp<process id>): at most 240 bytes,
+// counted in bytes, not characters.
+TEST(CaseValidation, CaseNameFitsInAFileName) {
+  EXPECT_NO_THROW(parse("[case]\nname = \"" + std::string(240, 'a') + "\"\n" + minimal_water));
+  expect_contains(parse_error("[case]\nname = \"" + std::string(241, 'a') + "\"\n" + minimal_water),
+                  {"test.toml: case.name = \"" + std::string(40, 'a') + "\"...: too long, 241 bytes; expected at most 240 "
+                   "bytes", "<name>.pvd.tmp<process id>", "a file name holds at most 255 bytes"});
+  // 122 characters, 243 bytes: the start shown stops before the character that byte 40 is part of.
+  std::string accented = "a";
+  for (int k = 0; k < 121; ++k) accented += "\u00e9";
+  expect_contains(parse_error("[case]\nname = \"" + accented + "\"\n" + minimal_water),
+                  {"case.name = \"" + accented.substr(0, 39) + "\"...: too long, 243 bytes"});
+  Case c = parse(minimal_water);
+  expect_contains(override_error(c, "case.name=" + std::string(300, 'x')), {"case.name", "too long, 300 bytes"});
+}
+
 TEST(CaseValidation, TankAndResolution) {
   expect_contains(parse_error("[domain]\ndx = 5\n[tank]\nwidth = 8\nheight = 8\n[[water]]\nmin = [0, 0]\nmax = [1, 1]\n"),
                   {"smaller than two particle spacings"});

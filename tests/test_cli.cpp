@@ -304,6 +304,20 @@ TEST_F(Cli, SelfIntersectingPolygon) {
   expect_only({"bad.toml"});
 }
 
+// A name too long for a file name was found only when the .pvd file was written, after frame 0.
+TEST_F(Cli, CaseNameTooLongForAFileName) {
+  for (const std::size_t length : {241, 300}) {
+    SCOPED_TRACE(length);
+    const std::string name(length, 'n');
+    expect_bad_input(sluice(with_tiny({"run", "--set", "case.name=" + name})),
+                     {"--set case.name=", "too long, " + std::to_string(length) + " bytes; expected at most 240 bytes"});
+  }
+  expect_only({});
+  const Result r = sluice(with_tiny({"run", "--set", "case.name=" + std::string(240, 'n')}));
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(fs::is_regular_file(work_ / "out" / std::string(240, 'n') / (std::string(240, 'n') + ".pvd")));
+}
+
 TEST_F(Cli, MissingCaseFile) {
   expect_bad_input(sluice(with_tiny({"run", "nope.toml", "-o", "o"})), {"nope.toml", "no such case file", "sluice cases"});
   expect_only({});

@@ -66,6 +66,19 @@ struct Checker {
       fail(fmt::format("case.name = {}: not a usable name; expected a non-empty name without slashes or control "
                        "characters, other than \".\" and \"..\" (it names the output folder out/<name>)",
                        quote(c.name)));
+    // The longest file name made of it is the .pvd file's temporary <name>.pvd.tmp<process id>
+    // (io/atomic_file.cpp), a process id having up to 7 digits (Linux's pid_max is at most 2^22): it
+    // must fit in a file name of 255 bytes, or the run fails after writing its first frame.
+    constexpr std::size_t longest_file_name = 255;
+    constexpr std::size_t max_length = longest_file_name - std::string_view(".pvd.tmp4194304").size();
+    if (c.name.size() > max_length) {
+      std::size_t shown = 40;  // the start of the name, cut between two UTF-8 characters
+      while (shown > 0 && (static_cast<unsigned char>(c.name[shown]) & 0xC0u) == 0x80u) --shown;
+      fail(fmt::format("case.name = {}...: too long, {} bytes; expected at most {} bytes (it names the output folder "
+                       "out/<name> and the file <name>.pvd in it, written through a temporary <name>.pvd.tmp<process "
+                       "id>, and a file name holds at most {} bytes)",
+                       quote(c.name.substr(0, shown)), c.name.size(), max_length, longest_file_name));
+    }
   }
 
   void check_tank_size() const {
