@@ -146,6 +146,30 @@ TEST(Series, ObservedOrder) {
   EXPECT_THROW(observed_order(0.1, 0.1, 0.1, 0.2), AnalysisError);
 }
 
+// A probe file's or data file's text reaches the messages escaped.
+TEST(Table, TextFromTheFileIsShownEscaped) {
+  std::string message;
+  try {
+    parse_csv_table("t,\x1b[2Jz\n0.5,\x1b[31m1\n", "bad.csv");
+  } catch (const AnalysisError& e) {
+    message = e.what();
+  }
+  EXPECT_NE(message.find(R"(bad.csv:2: column '\u001B[2Jz': '\u001B[31m1' is not a finite number)"), std::string::npos)
+      << message;
+  try {
+    (void)parse_csv_table("t,\x1b[2Jz\n0.5\n", "short.csv");
+  } catch (const AnalysisError& e) {
+    message = e.what();
+  }
+  EXPECT_NE(message.find(R"(expected 2 (t,\u001B[2Jz))"), std::string::npos) << message;
+  try {
+    (void)parse_csv_table("t,\x1b[2Jz\n0.5,1\n", "ok.csv").column("height");
+  } catch (const AnalysisError& e) {
+    message = e.what();
+  }
+  EXPECT_NE(message.find(R"(no column 'height'; the columns are t, \u001B[2Jz)"), std::string::npos) << message;
+}
+
 TEST(Table, ParsesCommentsHeaderAndRowsAndNamesBadLines) {
   const Table t = parse_csv_table("# source: here\n# scaling: T = t\nT,Z\n0.5, 1.0\n\n1.5,2.5\n", "test.csv");
   EXPECT_EQ(t.comments, (std::vector<std::string>{"source: here", "scaling: T = t"}));

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "sluice/case/params.hpp"
+#include "sluice/case/value_text.hpp"
 
 namespace fs = std::filesystem;
 using namespace sluice;
@@ -998,6 +999,39 @@ TEST(CaseRegions, ALargeSimplePolygonChecksQuickly) {
   swapped.replace(at_b, b.size(), a);
   swapped.replace(at_a, a.size(), b);
   expect_contains(parse_error(swapped), {"the polygon crosses itself: edge 100 ", "crosses edge 102 "});
+}
+
+// What messages show of a case file's text: keys, sections and names with their control characters
+// escaped, so that none reaches the terminal.
+TEST(CaseText, KeysSectionsAndNamesFromTheFileAreShownEscaped) {
+  const std::string unknown_key = parse_error("[domain]\n\"d\\u001b[31mx\" = 1\n" + minimal_water);
+  expect_contains(unknown_key, {R"(unknown key 'domain.d\u001B[31mx')"});
+  expect_contains(parse_error("[\"dom\\u001bain\"]\ndx = 0.1\n" + minimal_water), {R"(unknown section 'dom\u001Bain')"});
+  expect_contains(parse_error("\"\\u009b2J\" = 1\n" + minimal_water), {R"(key '\u009B2J' is outside any section)"});
+  expect_contains(parse_error(minimal_water + "[[probe]]\nname = \"p\"\ntype = \"gauge\"\npoint = [1, 1]\n\"b\\u001b\" = 1\n"),
+                  {R"(unknown key 'b\u001B' in [[probe]])"});
+  const std::string p = "[[probe]]\nname = \"a\\u001b[31m\"\ntype = \"pressure\"\npoint = [1, 1]\n";
+  expect_contains(parse_error(minimal_water + p + p), {R"([[probe]] name "a\u001B[31m" is used twice)"});
+  for (const std::string& message : {unknown_key, parse_error(minimal_water + p + p)})
+    for (const char c : message) EXPECT_NE(c, '\x1b') << message;
+}
+
+// quote() writes a TOML string, printable() text to be shown: both escape the characters a terminal
+// may take as commands and the bytes that are not UTF-8, and leave other text as it is.
+TEST(CaseText, QuoteAndPrintableEscapeControlCharactersAndBytesThatAreNotUtf8) {
+  EXPECT_EQ(printable("plain \u00e9t\u00e9 \u6c34 \U0001F30A \"q\" \\"), "plain \u00e9t\u00e9 \u6c34 \U0001F30A \"q\" \\");
+  EXPECT_EQ(printable("a\nb\tc\rd\x1b[0m\x7f"), R"(a\nb\tc\rd\u001B[0m\u007F)");
+  EXPECT_EQ(printable("\xc2\x9b" "31m \xc2\xa0"), "\\u009B31m \u00a0");  // C1 CSI escaped, a no-break space kept
+  // A stray continuation byte, a truncated sequence, an overlong '/', a surrogate, past U+10FFFF.
+  EXPECT_EQ(printable("\x80 \xe6\xb0 \xc0\xaf \xed\xa0\x80 \xf4\x90\x80\x80"),
+            R"(\x80 \xE6\xB0 \xC0\xAF \xED\xA0\x80 \xF4\x90\x80\x80)");
+  EXPECT_EQ(quote("a\"b\\c\x1b\xff"), R"("a\"b\\c\u001B\xFF")");
+  EXPECT_TRUE(is_utf8("\u00e9t\u00e9 \U0001F30A"));
+  EXPECT_FALSE(is_utf8("caf\xe9"));
+  // A C1 control in a case string reads back from the template unchanged.
+  Case c = parse(minimal_water);
+  c.description = "odd \u0085 line";
+  EXPECT_EQ(parse_case(case_template(c), "template").description, c.description);
 }
 
 // ---------------------------------------------------------------------------------------------

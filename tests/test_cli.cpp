@@ -11,12 +11,15 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
 #include <regex>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -349,6 +352,37 @@ TEST_F(Cli, BadMeshFile) {
   expect_bad_input(sluice({"run", "dam_break_3d", "--set", "wall[0].file=nowhere.stl", "-q"}),
                    {"--set wall[0].file=nowhere.stl", "mesh file \"nowhere.stl\"", "no such file"});
   expect_only({"bad.toml", "open.stl"});
+}
+
+// The CRC-32 of zip and zlib (reflected, polynomial 0xEDB88320), as a checkpoint ends with.
+std::uint32_t crc32_of(std::string_view bytes) {
+  std::uint32_t crc = 0xFFFFFFFFu;
+  for (const char ch : bytes) {
+    crc ^= static_cast<unsigned char>(ch);
+    for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
+  }
+  return ~crc;
+}
+
+// A checkpoint whose field name holds a terminal escape sequence: the message shows it escaped, and
+// no control character reaches the terminal, from `run --restart` and from `analyze`.
+TEST_F(Cli, TextFromAFileIsShownEscaped) {
+  ASSERT_EQ(sluice(with_tiny({"run", "-o", "o"})).status, 0);
+  std::string bytes = read_file(work_ / "o" / "checkpoint.bin");
+  const auto at = bytes.rfind("velocity");
+  ASSERT_NE(at, std::string::npos);
+  bytes.replace(at, 8, "\x1b[31mred");
+  const std::uint32_t crc = crc32_of(std::string_view(bytes).substr(0, bytes.size() - 4));
+  std::memcpy(bytes.data() + bytes.size() - 4, &crc, 4);
+  write("o/checkpoint.bin", bytes);
+  for (const auto& args : {std::vector<std::string>{"run", "--restart", "o/checkpoint.bin", "-q"},
+                           std::vector<std::string>{"analyze", "o"}}) {
+    SCOPED_TRACE(args[0]);
+    const Result r = sluice(args);
+    EXPECT_NE(r.status, 0);
+    expect_contains(r.err, {R"(not a usable checkpoint: field '\u001B[31mred' where 'velocity' was expected)"});
+    for (const char c : r.err) EXPECT_TRUE(c == '\n' || (c >= 0x20 && c < 0x7f)) << r.err;
+  }
 }
 
 // ---------------------------------------------------------------------------------------------

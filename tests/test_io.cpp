@@ -146,6 +146,19 @@ TEST(Npz, RoundTripKeepsNamesShapesDtypesAndValues) {
   EXPECT_THROW((void)arrays.at("ids").values<double>(), FormatError);
 }
 
+// The names and dtypes of an archive's arrays are the file's text: messages show them escaped.
+TEST(Npz, NamesAndDtypesFromTheFileAreShownEscaped) {
+  NpyArray short_data = NpyArray::of(std::vector<double>{1.0}, {1});
+  short_data.bytes.pop_back();
+  const std::string message = error_of([&] { parse_npz(make_npz({{"x\x1b]0;title\x07", short_data}})); });
+  EXPECT_NE(message.find(R"(x\u001B]0;title\u0007.npy: data size does not match its shape)"), std::string::npos) << message;
+  NpyArray odd_dtype = NpyArray::of(std::vector<double>{1.0}, {1});
+  odd_dtype.dtype = "<\x1b" "8";
+  const auto arrays = parse_npz(make_npz({{"x", odd_dtype}}));
+  const std::string dtype = error_of([&] { (void)arrays.at("x").values<double>(); });
+  EXPECT_NE(dtype.find(R"(array has dtype <\u001B8, expected <f8)"), std::string::npos) << dtype;
+}
+
 TEST(Npz, NpyHeadersArePaddedSoDataIsAligned) {
   // NEP 1: the header (magic through newline) is padded to a multiple of 64 bytes.
   const std::string bytes = make_npz({{"a", NpyArray::of(std::vector<double>{1.0, 2.0}, {2})}});
@@ -591,6 +604,21 @@ TEST_F(CheckpointFile, TheFieldTableNamesEachFieldOfTheRegistry) {
   renamed.replace(velocity, 8, "velocitx");
   const std::string message = error_of([&] { parse_checkpoint(with_crc_fixed(renamed), "r.bin"); });
   EXPECT_NE(message.find("field 'velocitx' where 'velocity' was expected"), std::string::npos) << message;
+}
+
+// Text read from the file reaches the message escaped: a field name holding a terminal's escape
+// sequence (colour, or worse) is shown as \u001B, never sent to the terminal.
+TEST_F(CheckpointFile, AFieldNameFromTheFileIsShownEscaped) {
+  const std::string stored_case = case_template(sim_->config());
+  const auto velocity = bytes_.find("velocity", bytes_.find(stored_case) + stored_case.size());
+  ASSERT_NE(velocity, std::string::npos);
+  std::string renamed = bytes_;
+  renamed.replace(velocity, 8, "\x1b[31m\x9b\xffv");  // same length: ESC [ 3 1 m, a C1 byte, a non-UTF-8 byte, v
+  const std::string message = error_of([&] { parse_checkpoint(with_crc_fixed(renamed), "r.bin"); });
+  EXPECT_NE(message.find(R"(r.bin: not a usable checkpoint: field '\u001B[31m\x9B\xFFv' where 'velocity' was expected)"),
+            std::string::npos)
+      << message;
+  for (const char c : message) EXPECT_FALSE(static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f) << message;
 }
 
 TEST_F(CheckpointFile, TruncatedOrForeignFilesAreClearErrors) {

@@ -229,11 +229,11 @@ struct Checker {
     for (std::size_t i = 0; i < c.probes.size(); ++i) {
       const Probe& p = c.probes[i];
       if (p.name.empty() || p.name.find_first_of("/\\ ") != std::string::npos)
-        fail(fmt::format("[[probe]] number {}: name \"{}\" must be non-empty, without spaces or slashes", i + 1,
-                         p.name));
-      if (!names.insert(p.name).second) fail(fmt::format("[[probe]] name \"{}\" is used twice", p.name));
+        fail(fmt::format("[[probe]] number {}: name {} must be non-empty, without spaces or slashes", i + 1,
+                         quote(p.name)));
+      if (!names.insert(p.name).second) fail(fmt::format("[[probe]] name {} is used twice", quote(p.name)));
       if (p.type == ProbeType::front && norm(p.direction) == 0.0)
-        fail(fmt::format("[[probe]] \"{}\": direction must not be {}", p.name, format_vector(p.direction, c.dimension)));
+        fail(fmt::format("[[probe]] {}: direction must not be {}", quote(p.name), format_vector(p.direction, c.dimension)));
       check_probe_inside_tank(p);
     }
   }
