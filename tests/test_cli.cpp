@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
+#include <limits>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -383,6 +384,49 @@ TEST_F(Cli, TextFromAFileIsShownEscaped) {
     expect_contains(r.err, {R"(not a usable checkpoint: field '\u001B[31mred' where 'velocity' was expected)"});
     for (const char c : r.err) EXPECT_TRUE(c == '\n' || (c >= 0x20 && c < 0x7f)) << r.err;
   }
+}
+
+// The .npz bytes with the first value of array `name` (a float64 array) set to `value`, and the zip
+// CRC-32s of its entry (local header and central directory) made to match.
+std::string with_first_value(std::string npz, const std::string& name, double value) {
+  const std::string file = name + ".npy";
+  const auto local = npz.find(std::string("PK\x03\x04", 4));
+  auto u16 = [&](std::size_t at) { return static_cast<std::size_t>(static_cast<unsigned char>(npz[at])) |
+                                          static_cast<std::size_t>(static_cast<unsigned char>(npz[at + 1])) << 8; };
+  auto u32 = [&](std::size_t at) { return static_cast<std::uint32_t>(u16(at) | u16(at + 2) << 16); };
+  for (std::size_t at = local; at != std::string::npos; at = npz.find(std::string("PK\x03\x04", 4), at + 4)) {
+    if (npz.compare(at + 30, u16(at + 26), file) != 0) continue;
+    const std::size_t data = at + 30 + u16(at + 26) + u16(at + 28), size = u32(at + 18);
+    std::memcpy(npz.data() + data + 10 + u16(data + 8), &value, sizeof value);  // after the .npy header
+    const std::uint32_t crc = crc32_of(std::string_view(npz).substr(data, size));
+    std::memcpy(npz.data() + at + 14, &crc, 4);
+    for (std::size_t c = npz.find(std::string("PK\x01\x02", 4)); c != std::string::npos;
+         c = npz.find(std::string("PK\x01\x02", 4), c + 4))
+      if (npz.compare(c + 46, u16(c + 28), file) == 0) std::memcpy(npz.data() + c + 16, &crc, 4);
+    return npz;
+  }
+  ADD_FAILURE() << "no array " << name;
+  return npz;
+}
+
+// Frames whose positions, time or spacing are not usable were drawn and measured: render refuses them
+// as it does a damaged frame (exit status 1), analyze as bad input (2), both naming the frame's file.
+TEST_F(Cli, RenderAndAnalyzeRefuseFramesThatAreNotFinite) {
+  ASSERT_EQ(sluice(with_tiny({"run", "-o", "o"})).status, 0);
+  const std::string frame = "o/frames/frame_000001.npz";
+  const std::string good = read_file(work_ / frame);
+  write(frame, with_first_value(good, "x", std::numeric_limits<double>::quiet_NaN()));
+  const Result render = sluice({"render", "o", "-o", "o/speed.gif"});
+  EXPECT_EQ(render.status, 1) << render.err;
+  expect_contains(render.err, {"sluice: error: " + frame + ": not a sluice frame: the position of particle id 0 (row 0 "
+                               "of x) is not finite: [nan, "});
+  EXPECT_FALSE(fs::exists(work_ / "o" / "speed.gif"));
+  expect_bad_input(sluice({"analyze", "o"}), {frame + ": not a sluice frame: the position of particle id 0"});
+  write(frame, with_first_value(good, "t", std::numeric_limits<double>::quiet_NaN()));
+  expect_bad_input(sluice({"analyze", "o"}), {frame + ": not a sluice frame: its time t = nan is not finite"});
+  write(frame, with_first_value(good, "dx", 0.0));
+  expect_bad_input(sluice({"analyze", "o"}), {frame + ": not a sluice frame: dx = 0 is not a positive spacing"});
+  EXPECT_FALSE(fs::exists(work_ / "o" / "analysis"));
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -12,10 +12,12 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <cmath>
 #include <csignal>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -183,6 +185,41 @@ TEST(Frames, NpzRoundTrip) {
   EXPECT_EQ(g.pressure(), f.pressure());
   EXPECT_EQ(g.kind(), f.kind());
   EXPECT_EQ(g.id(), f.id());
+}
+
+// Render and analyze place, size and order particles by the time, the spacing and the positions: a
+// frame with a NaN or an infinity there (or a spacing that is not positive) is refused, saying what.
+TEST(Frames, ATimeSpacingOrPositionThatIsNotFiniteIsRefused) {
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  const auto message = [](const Frame& f) { return error_of([&] { frame_from_npz(frame_to_npz(f), "frames/f.npz"); }); };
+  Frame f = small_frame();
+  f.position()[3] = nan;  // particle 1's y
+  EXPECT_NE(message(f).find("frames/f.npz: not a sluice frame: the position of particle id 1 (row 1 of x) is not "
+                            "finite: [1, nan]"),
+            std::string::npos)
+      << message(f);
+  f = small_frame();
+  f.position()[4] = -inf;
+  EXPECT_NE(message(f).find("the position of particle id 2 (row 2 of x) is not finite: [-inf, 2.5]"), std::string::npos)
+      << message(f);
+  for (const double t : {nan, inf}) {
+    f = small_frame();
+    f.time = t;
+    EXPECT_NE(message(f).find(fmt::format("frames/f.npz: not a sluice frame: its time t = {} is not finite", t)),
+              std::string::npos)
+        << message(f);
+  }
+  for (const double dx : {0.0, -0.025, nan, inf}) {
+    f = small_frame();
+    f.dx = dx;
+    EXPECT_NE(message(f).find(fmt::format("frames/f.npz: not a sluice frame: dx = {} is not a positive spacing", dx)),
+              std::string::npos)
+        << message(f);
+  }
+  // Other fields may hold anything a run can: a NaN velocity is read back.
+  f = small_frame();
+  f.velocity()[0] = nan;
+  EXPECT_TRUE(std::isnan(frame_from_npz(frame_to_npz(f), "f.npz").velocity()[0]));
 }
 
 TEST(Frames, NpzOfTheSameFrameIsTheSameBytes) {
