@@ -621,6 +621,16 @@ TEST(CaseOverrides, Malformed) {
   expect_contains(override_error(c, "=0.1"), {"no key before '='"});
 }
 
+// A case's strings go into its checkpoint as TOML, which is UTF-8: a --set of other bytes made a run
+// whose checkpoint could not be read back ("invalid utf-8 sequence") when restarting.
+TEST(CaseOverrides, ValuesMustBeUtf8) {
+  Case c = parse(minimal_water);
+  expect_contains(override_error(c, "case.name=caf\xe9"), {R"(--set case.name=caf\xE9: not UTF-8 text)"});
+  expect_contains(override_error(c, "case.description=\xff"), {"not UTF-8 text"});
+  apply_override(c, "case.name=caf\u00e9");
+  EXPECT_EQ(parse_case(case_template(c), "template").name, "caf\u00e9");
+}
+
 TEST(CaseOverrides, ValidatedAfterwards) {
   const Case c = parse(minimal_water);
   expect_contains(override_error(c, "tank.width=0.5"), {"--set tank.width=0.5", "reaches outside the tank"});
