@@ -23,7 +23,8 @@ std::string point_text(const Vec2& p) { return fmt::format("({}, {})", p[0], p[1
 // 1e-12 of the triangle's scale, so that a point computed to lie on the line counts as on it).
 int side(const Vec2& a, const Vec2& b, const Vec2& c) {
   const double twice_area = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-  const double scale = (std::abs(b[0] - a[0]) + std::abs(b[1] - a[1])) * (std::abs(c[0] - a[0]) + std::abs(c[1] - a[1]));
+  const double scale =
+      (std::abs(b[0] - a[0]) + std::abs(b[1] - a[1])) * (std::abs(c[0] - a[0]) + std::abs(c[1] - a[1]));
   if (std::abs(twice_area) <= 1e-12 * scale) return 0;
   return twice_area > 0.0 ? 1 : -1;
 }
@@ -233,7 +234,8 @@ struct Checker {
                          quote(p.name)));
       if (!names.insert(p.name).second) fail(fmt::format("[[probe]] name {} is used twice", quote(p.name)));
       if (p.type == ProbeType::front && norm(p.direction) == 0.0)
-        fail(fmt::format("[[probe]] {}: direction must not be {}", quote(p.name), format_vector(p.direction, c.dimension)));
+        fail(fmt::format("[[probe]] {}: direction must not be {}", quote(p.name),
+                         format_vector(p.direction, c.dimension)));
       check_probe_inside_tank(p);
     }
   }

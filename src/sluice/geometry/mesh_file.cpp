@@ -89,7 +89,8 @@ TriangleMesh read_mesh(std::string_view bytes, const std::string& name) {
         throw MeshError(fmt::format("it holds a {} (a face with {} corner{}); expected triangles only",
                                     face.mNumIndices == 2 ? "line" : "point", face.mNumIndices,
                                     face.mNumIndices == 1 ? "" : "s"));
-      m.triangles.push_back({vertex(mesh->mVertices[face.mIndices[0]], 1), vertex(mesh->mVertices[face.mIndices[1]], 2),
+      m.triangles.push_back({vertex(mesh->mVertices[face.mIndices[0]], 1),
+                             vertex(mesh->mVertices[face.mIndices[1]], 2),
                              vertex(mesh->mVertices[face.mIndices[2]], 3)});
     }
   }

@@ -91,8 +91,8 @@ void check_finite(const Frame& f) {
       const std::size_t row = i / dim;
       std::vector<double> at(x.begin() + static_cast<std::ptrdiff_t>(dim * row),
                              x.begin() + static_cast<std::ptrdiff_t>(dim * (row + 1)));
-      throw FormatError(fmt::format("the position of particle id {} (row {} of x) is not finite: [{}]", f.id()[row], row,
-                                    fmt::join(at, ", ")));
+      throw FormatError(fmt::format("the position of particle id {} (row {} of x) is not finite: [{}]", f.id()[row],
+                                    row, fmt::join(at, ", ")));
     }
 }
 
