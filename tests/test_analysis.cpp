@@ -9,7 +9,12 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
+#include <limits>
 #include <numbers>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "sluice/analysis/convergence.hpp"
 #include "sluice/analysis/html_report.hpp"
@@ -144,6 +149,30 @@ TEST(Series, ObservedOrder) {
   EXPECT_NEAR(observed_order(0.5 * 0.4, 0.4, 0.5 * 0.1, 0.1), 1.0, 1e-12);
   EXPECT_THROW(observed_order(0.0, 0.2, 0.1, 0.1), AnalysisError);
   EXPECT_THROW(observed_order(0.1, 0.1, 0.1, 0.2), AnalysisError);
+}
+
+// A probe file's or data file's text reaches the messages escaped.
+TEST(Table, TextFromTheFileIsShownEscaped) {
+  std::string message;
+  try {
+    parse_csv_table("t,\x1b[2Jz\n0.5,\x1b[31m1\n", "bad.csv");
+  } catch (const AnalysisError& e) {
+    message = e.what();
+  }
+  EXPECT_NE(message.find(R"(bad.csv:2: column '\u001B[2Jz': '\u001B[31m1' is not a finite number)"), std::string::npos)
+      << message;
+  try {
+    (void)parse_csv_table("t,\x1b[2Jz\n0.5\n", "short.csv");
+  } catch (const AnalysisError& e) {
+    message = e.what();
+  }
+  EXPECT_NE(message.find(R"(expected 2 (t,\u001B[2Jz))"), std::string::npos) << message;
+  try {
+    (void)parse_csv_table("t,\x1b[2Jz\n0.5,1\n", "ok.csv").column("height");
+  } catch (const AnalysisError& e) {
+    message = e.what();
+  }
+  EXPECT_NE(message.find(R"(no column 'height'; the columns are t, \u001B[2Jz)"), std::string::npos) << message;
 }
 
 TEST(Table, ParsesCommentsHeaderAndRowsAndNamesBadLines) {
@@ -287,6 +316,42 @@ TEST(Waves, ASinusoidalCrestWithAKnownPeriod) {
   EXPECT_FALSE(a.dam_break);
   EXPECT_FALSE(a.stoker_speed);
   EXPECT_NEAR(a.front_threshold, 0.1 * a.mean_depth, 1e-12);
+}
+
+// analyze reads the run's frames: one whose spacing is not positive, or whose time or a position is
+// not finite, is refused naming its file, rather than measured (a NaN time was reported as "frames out
+// of order", a zero spacing and a NaN position went into the results).
+TEST(Waves, AFrameWithAZeroSpacingOrNonFiniteValuesIsRefused) {
+  Case c;
+  c.dimension = 2;
+  c.tank_width = 2.0;
+  c.gravity = {0.0, -9.81, 0.0};
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<std::pair<std::string, std::function<void(Frame&)>>> damage = {
+      {"dx = 0 is not a positive spacing", [](Frame& f) { f.dx = 0.0; }},
+      {"dx = -0.05 is not a positive spacing", [](Frame& f) { f.dx = -0.05; }},
+      {"its time t = nan is not finite", [&](Frame& f) { f.time = nan; }},
+      {"the position of particle id 4 (row 4 of x) is not finite: [nan, ", [&](Frame& f) { f.position()[8] = nan; }},
+  };
+  for (const auto& [what, change] : damage) {
+    SCOPED_TRACE(what);
+    TempDir dir;
+    fs::create_directories(dir.path / "frames");
+    for (int k = 0; k < 4; ++k) {
+      Frame f = lattice_frame(0.1 * k, 0.05, 2.0, [](double x) { return 0.5 + 0.1 * x; });
+      if (k == 2) change(f);
+      write_file_atomic(dir.path / "frames" / fmt::format("frame_{:06}.npz", k), frame_to_npz(f));
+    }
+    try {
+      analyze_run(dir.path, c, {});
+      ADD_FAILURE() << "no error";
+    } catch (const AnalysisError& e) {
+      EXPECT_NE(std::string(e.what()).find((dir.path / "frames" / "frame_000002.npz").string() +
+                                           ": not a sluice frame: " + what),
+                std::string::npos)
+          << e.what();
+    }
+  }
 }
 
 TEST(Plots, SvgHasAxesSeriesLegendAndEscapedText) {

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
@@ -16,6 +17,7 @@
 #include <vector>
 
 #include "sluice/case/params.hpp"
+#include "sluice/case/value_text.hpp"
 
 namespace fs = std::filesystem;
 using namespace sluice;
@@ -619,6 +621,16 @@ TEST(CaseOverrides, Malformed) {
   expect_contains(override_error(c, "=0.1"), {"no key before '='"});
 }
 
+// A case's strings go into its checkpoint as TOML, which is UTF-8: a --set of other bytes made a run
+// whose checkpoint could not be read back ("invalid utf-8 sequence") when restarting.
+TEST(CaseOverrides, ValuesMustBeUtf8) {
+  Case c = parse(minimal_water);
+  expect_contains(override_error(c, "case.name=caf\xe9"), {R"(--set case.name=caf\xE9: not UTF-8 text)"});
+  expect_contains(override_error(c, "case.description=\xff"), {"not UTF-8 text"});
+  apply_override(c, "case.name=caf\u00e9");
+  EXPECT_EQ(parse_case(case_template(c), "template").name, "caf\u00e9");
+}
+
 TEST(CaseOverrides, ValidatedAfterwards) {
   const Case c = parse(minimal_water);
   expect_contains(override_error(c, "tank.width=0.5"), {"--set tank.width=0.5", "reaches outside the tank"});
@@ -693,11 +705,55 @@ TEST(CaseValidation, Probes) {
                   {"direction must not be [0.0, 0.0]"});
 }
 
+// A pressure probe or a gauge outside the tank finds no water and records zeros: refused, as water
+// outside the tank is, for every type of probe (a front measures from its point).
+TEST(CaseValidation, ProbesOutsideTheTank) {
+  const std::string tank = "[tank]\nwidth = 2.0\nheight = 1.5\n" + minimal_water;
+  expect_contains(parse_error(tank + "[[probe]]\nname = \"far\"\ntype = \"pressure\"\npoint = [5.0, 0.1]\n"),
+                  {"test.toml: [[probe]] \"far\" (a pressure probe at [5.0, 0.1]) lies outside the tank [0, 2] x [0, 1.5]",
+                   "x = 5 is not within [0, 2]", "expected a point inside the tank"});
+  expect_contains(parse_error(tank + "[[probe]]\nname = \"g\"\ntype = \"gauge\"\npoint = [-0.5, 0.0]\n"),
+                  {"[[probe]] \"g\" (a gauge on the vertical line through [-0.5, 0.0]) lies outside the tank",
+                   "x = -0.5 is not within [0, 2]"});
+  expect_contains(parse_error(tank + "[[probe]]\nname = \"g\"\ntype = \"gauge\"\npoint = [1.0, 1.6]\nmeasure = \"column\"\n"),
+                  {"[[probe]] \"g\"", "y = 1.6 is not within [0, 1.5]"});
+  expect_contains(parse_error(tank + "[[probe]]\nname = \"f\"\ntype = \"front\"\npoint = [0.0, -1.0]\n"),
+                  {"[[probe]] \"f\" (a front probe measuring from [0.0, -1.0]) lies outside the tank"});
+  const std::string tank_3d = "[domain]\ndimension = 3\n[tank]\nwidth = 2.0\ndepth = 1.0\nheight = 1.5\n"
+                              "[[water]]\nmin = [0, 0, 0]\nmax = [0.5, 1.0, 0.6]\n";
+  expect_contains(parse_error(tank_3d + "[[probe]]\nname = \"p\"\ntype = \"pressure\"\npoint = [1.0, 1.2, 0.5]\n"),
+                  {"[[probe]] \"p\"", "lies outside the tank [0, 2] x [0, 1] x [0, 1.5]", "y = 1.2 is not within [0, 1]"});
+  // On the walls (a wall pressure sensor, a gauge at the back wall) and in the corners: accepted.
+  EXPECT_NO_THROW(parse(tank + "[[probe]]\nname = \"wall\"\ntype = \"pressure\"\npoint = [2.0, 0.1]\n"
+                               "[[probe]]\nname = \"back\"\ntype = \"gauge\"\npoint = [0.0, 0.0]\n"
+                               "[[probe]]\nname = \"corner\"\ntype = \"front\"\npoint = [2.0, 1.5]\n"));
+  // A --set that moves a probe out, or shrinks the tank under one, is refused too.
+  Case c = parse(tank + "[[probe]]\nname = \"p\"\ntype = \"pressure\"\npoint = [1.5, 0.1]\n");
+  expect_contains(override_error(c, "probe[0].point=[2.5, 0.1]"), {"[[probe]] \"p\"", "lies outside the tank"});
+  expect_contains(override_error(c, "tank.width=1.2"), {"[[probe]] \"p\"", "lies outside the tank [0, 1.2] x [0, 1.5]"});
+}
+
 TEST(CaseValidation, CaseNameIsAUsableFolderName) {
   for (const char* bad : {"\"\"", "\".\"", "\"..\"", "\"a/b\"", "\"a\\\\b\"", "\"a\\nb\""})
     expect_contains(parse_error(fmt::format("[case]\nname = {}\n", bad) + minimal_water),
                     {"case.name", "not a usable name"});
   EXPECT_EQ(parse("[case]\nname = \"tank 2 (fine)\"\n" + minimal_water).name, "tank 2 (fine)");
+}
+
+// The name is a file name (<name>.pvd, written through <name>.pvd.tmp<process id>): at most 240 bytes,
+// counted in bytes, not characters.
+TEST(CaseValidation, CaseNameFitsInAFileName) {
+  EXPECT_NO_THROW(parse("[case]\nname = \"" + std::string(240, 'a') + "\"\n" + minimal_water));
+  expect_contains(parse_error("[case]\nname = \"" + std::string(241, 'a') + "\"\n" + minimal_water),
+                  {"test.toml: case.name = \"" + std::string(40, 'a') + "\"...: too long, 241 bytes; expected at most 240 "
+                   "bytes", "<name>.pvd.tmp<process id>", "a file name holds at most 255 bytes"});
+  // 122 characters, 243 bytes: the start shown stops before the character that byte 40 is part of.
+  std::string accented = "a";
+  for (int k = 0; k < 121; ++k) accented += "\u00e9";
+  expect_contains(parse_error("[case]\nname = \"" + accented + "\"\n" + minimal_water),
+                  {"case.name = \"" + accented.substr(0, 39) + "\"...: too long, 243 bytes"});
+  Case c = parse(minimal_water);
+  expect_contains(override_error(c, "case.name=" + std::string(300, 'x')), {"case.name", "too long, 300 bytes"});
 }
 
 TEST(CaseValidation, TankAndResolution) {
@@ -894,6 +950,98 @@ TEST(CaseRegions, PolygonsParseAndShapeKeysAreCheckedBothWays) {
                   {"wall[0].points", "an array of points"});
   expect_contains(parse_error(minimal_water + "[[wall]]\nmin = [0, 0]\nmax = [1, 1]\npoints = [[0, 0], [1, 0], [1, 1]]\n"),
                   {"gives 'points', which a box does not use"});
+}
+
+// A polygon whose edges cross or touch has no single inside: the set-up would fill and wall it
+// wrongly. So is a repeated point (an edge of no length, or the polygon touching itself).
+TEST(CaseRegions, PolygonsMustBeSimple) {
+  const auto polygon = [](const std::string& section, const std::string& points) {
+    return parse_error(minimal_water + "[[" + section + "]]\nshape = \"polygon\"\npoints = " + points + "\n");
+  };
+  expect_contains(polygon("wall", "[[0, 0], [1, 0], [0, 1], [1, 1]]"),
+                  {"test.toml: [[wall]] number 1: the polygon crosses itself: edge 2 (from (1, 0) to (0, 1)) crosses "
+                   "edge 4 (from (1, 1) to (0, 0))",
+                   "expected a simple polygon, whose edges meet only at the corners they share"});
+  expect_contains(polygon("water", "[[0, 0], [1, 0], [0, 1], [1, 1]]"), {"[[water]] number 2: the polygon crosses itself"});
+  // A corner on another edge, and an edge that turns back along the one before it.
+  expect_contains(polygon("wall", "[[0, 0], [4, 0], [4, 2], [2, 0], [0, 2]]"),
+                  {"the polygon touches itself: edge 1 (from (0, 0) to (4, 0)) touches edge 3 (from (4, 2) to (2, 0))"});
+  expect_contains(polygon("wall", "[[0, 0], [2, 0], [2, 2], [2, 1], [0, 2]]"),
+                  {"the polygon touches itself: edge 2 (from (2, 0) to (2, 2)) touches edge 4 (from (2, 1) to (0, 2))"});
+  expect_contains(polygon("wall", "[[0.1, 0.1], [0.7, 0.3], [0.4, 0.2], [0.3, 0.9]]"), {"the polygon touches itself"});
+  // Repeated points: the first again at the end, two in a row, and one that comes back later.
+  expect_contains(polygon("wall", "[[0, 0], [1, 0], [1, 1], [0, 0]]"),
+                  {"[[wall]] number 1: points 1 and 4 are the same point (0, 0), so that edge 4 has no length",
+                   "the first point is not repeated at the end"});
+  expect_contains(polygon("wall", "[[0, 0], [1, 0], [1, 0], [1, 1]]"),
+                  {"points 2 and 3 are the same point (1, 0), so that edge 2 has no length"});
+  expect_contains(polygon("wall", "[[0, 0], [2, 0], [1, 1], [2, 2], [0, 2], [1, 1]]"),
+                  {"points 3 and 6 are the same point (1, 1): the polygon touches itself there"});
+  // Convex and concave polygons, and a thin one, are simple.
+  EXPECT_NO_THROW(parse(minimal_water + "[[wall]]\nshape = \"polygon\"\npoints = [[12, 0], [20, 0], [20, 4]]\n"));
+  EXPECT_NO_THROW(parse(minimal_water + "[[wall]]\nshape = \"polygon\"\npoints = [[0, 0], [4, 0], [4, 2], [2, 1], [0, 2]]\n"));
+  EXPECT_NO_THROW(parse(minimal_water + "[[wall]]\nshape = \"polygon\"\npoints = [[0, 0], [10, 0], [10, 1e-6], [0, 1e-6]]\n"));
+}
+
+// Every pair of edges is checked: a polygon of a few thousand points (a finely drawn circle) still
+// loads at once.
+TEST(CaseRegions, ALargeSimplePolygonChecksQuickly) {
+  const int n = 5000;
+  std::string points;
+  for (int k = 0; k < n; ++k) {
+    const double angle = 2.0 * 3.141592653589793 * k / n;
+    points += fmt::format("{}[{}, {}]", k == 0 ? "" : ", ", 5.0 + 2.0 * std::cos(angle), 5.0 + 2.0 * std::sin(angle));
+  }
+  const std::string text = minimal_water + "[[wall]]\nshape = \"polygon\"\npoints = [" + points + "]\n";
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_NO_THROW(parse(text));
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_LT(seconds, 1.0);
+  // The same circle with two of its points swapped crosses itself.
+  std::string swapped = text;
+  const std::string a = fmt::format("[{}, {}]", 5.0 + 2.0 * std::cos(2.0 * 3.141592653589793 * 100 / n),
+                                    5.0 + 2.0 * std::sin(2.0 * 3.141592653589793 * 100 / n));
+  const std::string b = fmt::format("[{}, {}]", 5.0 + 2.0 * std::cos(2.0 * 3.141592653589793 * 101 / n),
+                                    5.0 + 2.0 * std::sin(2.0 * 3.141592653589793 * 101 / n));
+  const auto at_a = swapped.find(a), at_b = swapped.find(b);
+  ASSERT_NE(at_a, std::string::npos);
+  ASSERT_NE(at_b, std::string::npos);
+  swapped.replace(at_b, b.size(), a);
+  swapped.replace(at_a, a.size(), b);
+  expect_contains(parse_error(swapped), {"the polygon crosses itself: edge 100 ", "crosses edge 102 "});
+}
+
+// What messages show of a case file's text: keys, sections and names with their control characters
+// escaped, so that none reaches the terminal.
+TEST(CaseText, KeysSectionsAndNamesFromTheFileAreShownEscaped) {
+  const std::string unknown_key = parse_error("[domain]\n\"d\\u001b[31mx\" = 1\n" + minimal_water);
+  expect_contains(unknown_key, {R"(unknown key 'domain.d\u001B[31mx')"});
+  expect_contains(parse_error("[\"dom\\u001bain\"]\ndx = 0.1\n" + minimal_water), {R"(unknown section 'dom\u001Bain')"});
+  expect_contains(parse_error("\"\\u009b2J\" = 1\n" + minimal_water), {R"(key '\u009B2J' is outside any section)"});
+  expect_contains(parse_error(minimal_water + "[[probe]]\nname = \"p\"\ntype = \"gauge\"\npoint = [1, 1]\n\"b\\u001b\" = 1\n"),
+                  {R"(unknown key 'b\u001B' in [[probe]])"});
+  const std::string p = "[[probe]]\nname = \"a\\u001b[31m\"\ntype = \"pressure\"\npoint = [1, 1]\n";
+  expect_contains(parse_error(minimal_water + p + p), {R"([[probe]] name "a\u001B[31m" is used twice)"});
+  for (const std::string& message : {unknown_key, parse_error(minimal_water + p + p)})
+    for (const char c : message) EXPECT_NE(c, '\x1b') << message;
+}
+
+// quote() writes a TOML string, printable() text to be shown: both escape the characters a terminal
+// may take as commands and the bytes that are not UTF-8, and leave other text as it is.
+TEST(CaseText, QuoteAndPrintableEscapeControlCharactersAndBytesThatAreNotUtf8) {
+  EXPECT_EQ(printable("plain \u00e9t\u00e9 \u6c34 \U0001F30A \"q\" \\"), "plain \u00e9t\u00e9 \u6c34 \U0001F30A \"q\" \\");
+  EXPECT_EQ(printable("a\nb\tc\rd\x1b[0m\x7f"), R"(a\nb\tc\rd\u001B[0m\u007F)");
+  EXPECT_EQ(printable("\xc2\x9b" "31m \xc2\xa0"), "\\u009B31m \u00a0");  // C1 CSI escaped, a no-break space kept
+  // A stray continuation byte, a truncated sequence, an overlong '/', a surrogate, past U+10FFFF.
+  EXPECT_EQ(printable("\x80 \xe6\xb0 \xc0\xaf \xed\xa0\x80 \xf4\x90\x80\x80"),
+            R"(\x80 \xE6\xB0 \xC0\xAF \xED\xA0\x80 \xF4\x90\x80\x80)");
+  EXPECT_EQ(quote("a\"b\\c\x1b\xff"), R"("a\"b\\c\u001B\xFF")");
+  EXPECT_TRUE(is_utf8("\u00e9t\u00e9 \U0001F30A"));
+  EXPECT_FALSE(is_utf8("caf\xe9"));
+  // A C1 control in a case string reads back from the template unchanged.
+  Case c = parse(minimal_water);
+  c.description = "odd \u0085 line";
+  EXPECT_EQ(parse_case(case_template(c), "template").description, c.description);
 }
 
 // ---------------------------------------------------------------------------------------------

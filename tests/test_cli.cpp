@@ -12,12 +12,16 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
+#include <limits>
 #include <regex>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -283,6 +287,42 @@ TEST_F(Cli, InconsistentCaseFile) {
   EXPECT_FALSE(fs::exists(dir_ / "escape"));
 }
 
+// A probe outside the tank would record zeros for the whole run.
+TEST_F(Cli, ProbeOutsideTheTank) {
+  write("bad.toml", "[tank]\nwidth = 2.0\nheight = 1.5\n" + minimal_water +
+                        "[[probe]]\nname = \"far\"\ntype = \"pressure\"\npoint = [5.0, 0.1]\n");
+  expect_bad_input(sluice(with_tiny({"run", "bad.toml"})),
+                   {"bad.toml: [[probe]] \"far\" (a pressure probe at [5.0, 0.1]) lies outside the tank [0, 2] x [0, 1.5]"});
+  expect_bad_input(sluice({"run", "sloshing", "--set", "probe[1].point=[2.5, 0]", "-q"}),
+                   {"--set probe[1].point=[2.5, 0]", "[[probe]] \"gauge_right\" (a gauge on the vertical line through "
+                    "[2.5, 0.0]) lies outside the tank [0, 2] x [0, 1.5]"});
+  expect_only({"bad.toml"});
+}
+
+// A polygon whose edges cross has no single inside; the set-up would build a broken solid.
+TEST_F(Cli, SelfIntersectingPolygon) {
+  write("bad.toml", "[tank]\nwidth = 2.0\nheight = 1.5\n" + minimal_water +
+                        "[[wall]]\nshape = \"polygon\"\npoints = [[1.0, 0.0], [1.6, 0.0], [1.0, 0.5], [1.3, 0.5]]\n");
+  expect_bad_input(sluice(with_tiny({"run", "bad.toml"})),
+                   {"bad.toml: [[wall]] number 1: the polygon crosses itself: edge 2 (from (1.6, 0) to (1, 0.5)) "
+                    "crosses edge 4 (from (1.3, 0.5) to (1, 0))"});
+  expect_only({"bad.toml"});
+}
+
+// A name too long for a file name was found only when the .pvd file was written, after frame 0.
+TEST_F(Cli, CaseNameTooLongForAFileName) {
+  for (const std::size_t length : {241, 300}) {
+    SCOPED_TRACE(length);
+    const std::string name(length, 'n');
+    expect_bad_input(sluice(with_tiny({"run", "--set", "case.name=" + name})),
+                     {"--set case.name=", "too long, " + std::to_string(length) + " bytes; expected at most 240 bytes"});
+  }
+  expect_only({});
+  const Result r = sluice(with_tiny({"run", "--set", "case.name=" + std::string(240, 'n')}));
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(fs::is_regular_file(work_ / "out" / std::string(240, 'n') / (std::string(240, 'n') + ".pvd")));
+}
+
 TEST_F(Cli, MissingCaseFile) {
   expect_bad_input(sluice(with_tiny({"run", "nope.toml", "-o", "o"})), {"nope.toml", "no such case file", "sluice cases"});
   expect_only({});
@@ -314,6 +354,80 @@ TEST_F(Cli, BadMeshFile) {
   expect_bad_input(sluice({"run", "dam_break_3d", "--set", "wall[0].file=nowhere.stl", "-q"}),
                    {"--set wall[0].file=nowhere.stl", "mesh file \"nowhere.stl\"", "no such file"});
   expect_only({"bad.toml", "open.stl"});
+}
+
+// The CRC-32 of zip and zlib (reflected, polynomial 0xEDB88320), as a checkpoint ends with.
+std::uint32_t crc32_of(std::string_view bytes) {
+  std::uint32_t crc = 0xFFFFFFFFu;
+  for (const char ch : bytes) {
+    crc ^= static_cast<unsigned char>(ch);
+    for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
+  }
+  return ~crc;
+}
+
+// A checkpoint whose field name holds a terminal escape sequence: the message shows it escaped, and
+// no control character reaches the terminal, from `run --restart` and from `analyze`.
+TEST_F(Cli, TextFromAFileIsShownEscaped) {
+  ASSERT_EQ(sluice(with_tiny({"run", "-o", "o"})).status, 0);
+  std::string bytes = read_file(work_ / "o" / "checkpoint.bin");
+  const auto at = bytes.rfind("velocity");
+  ASSERT_NE(at, std::string::npos);
+  bytes.replace(at, 8, "\x1b[31mred");
+  const std::uint32_t crc = crc32_of(std::string_view(bytes).substr(0, bytes.size() - 4));
+  std::memcpy(bytes.data() + bytes.size() - 4, &crc, 4);
+  write("o/checkpoint.bin", bytes);
+  for (const auto& args : {std::vector<std::string>{"run", "--restart", "o/checkpoint.bin", "-q"},
+                           std::vector<std::string>{"analyze", "o"}}) {
+    SCOPED_TRACE(args[0]);
+    const Result r = sluice(args);
+    EXPECT_NE(r.status, 0);
+    expect_contains(r.err, {R"(not a usable checkpoint: field '\u001B[31mred' where 'velocity' was expected)"});
+    for (const char c : r.err) EXPECT_TRUE(c == '\n' || (c >= 0x20 && c < 0x7f)) << r.err;
+  }
+}
+
+// The .npz bytes with the first value of array `name` (a float64 array) set to `value`, and the zip
+// CRC-32s of its entry (local header and central directory) made to match.
+std::string with_first_value(std::string npz, const std::string& name, double value) {
+  const std::string file = name + ".npy";
+  const auto local = npz.find(std::string("PK\x03\x04", 4));
+  auto u16 = [&](std::size_t at) { return static_cast<std::size_t>(static_cast<unsigned char>(npz[at])) |
+                                          static_cast<std::size_t>(static_cast<unsigned char>(npz[at + 1])) << 8; };
+  auto u32 = [&](std::size_t at) { return static_cast<std::uint32_t>(u16(at) | u16(at + 2) << 16); };
+  for (std::size_t at = local; at != std::string::npos; at = npz.find(std::string("PK\x03\x04", 4), at + 4)) {
+    if (npz.compare(at + 30, u16(at + 26), file) != 0) continue;
+    const std::size_t data = at + 30 + u16(at + 26) + u16(at + 28), size = u32(at + 18);
+    std::memcpy(npz.data() + data + 10 + u16(data + 8), &value, sizeof value);  // after the .npy header
+    const std::uint32_t crc = crc32_of(std::string_view(npz).substr(data, size));
+    std::memcpy(npz.data() + at + 14, &crc, 4);
+    for (std::size_t c = npz.find(std::string("PK\x01\x02", 4)); c != std::string::npos;
+         c = npz.find(std::string("PK\x01\x02", 4), c + 4))
+      if (npz.compare(c + 46, u16(c + 28), file) == 0) std::memcpy(npz.data() + c + 16, &crc, 4);
+    return npz;
+  }
+  ADD_FAILURE() << "no array " << name;
+  return npz;
+}
+
+// Frames whose positions, time or spacing are not usable were drawn and measured: render refuses them
+// as it does a damaged frame (exit status 1), analyze as bad input (2), both naming the frame's file.
+TEST_F(Cli, RenderAndAnalyzeRefuseFramesThatAreNotFinite) {
+  ASSERT_EQ(sluice(with_tiny({"run", "-o", "o"})).status, 0);
+  const std::string frame = "o/frames/frame_000001.npz";
+  const std::string good = read_file(work_ / frame);
+  write(frame, with_first_value(good, "x", std::numeric_limits<double>::quiet_NaN()));
+  const Result render = sluice({"render", "o", "-o", "o/speed.gif"});
+  EXPECT_EQ(render.status, 1) << render.err;
+  expect_contains(render.err, {"sluice: error: " + frame + ": not a sluice frame: the position of particle id 0 (row 0 "
+                               "of x) is not finite: [nan, "});
+  EXPECT_FALSE(fs::exists(work_ / "o" / "speed.gif"));
+  expect_bad_input(sluice({"analyze", "o"}), {frame + ": not a sluice frame: the position of particle id 0"});
+  write(frame, with_first_value(good, "t", std::numeric_limits<double>::quiet_NaN()));
+  expect_bad_input(sluice({"analyze", "o"}), {frame + ": not a sluice frame: its time t = nan is not finite"});
+  write(frame, with_first_value(good, "dx", 0.0));
+  expect_bad_input(sluice({"analyze", "o"}), {frame + ": not a sluice frame: dx = 0 is not a positive spacing"});
+  EXPECT_FALSE(fs::exists(work_ / "o" / "analysis"));
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -12,10 +12,12 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <cmath>
 #include <csignal>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -147,6 +149,19 @@ TEST(Npz, RoundTripKeepsNamesShapesDtypesAndValues) {
   EXPECT_THROW((void)arrays.at("ids").values<double>(), FormatError);
 }
 
+// The names and dtypes of an archive's arrays are the file's text: messages show them escaped.
+TEST(Npz, NamesAndDtypesFromTheFileAreShownEscaped) {
+  NpyArray short_data = NpyArray::of(std::vector<double>{1.0}, {1});
+  short_data.bytes.pop_back();
+  const std::string message = error_of([&] { parse_npz(make_npz({{"x\x1b]0;title\x07", short_data}})); });
+  EXPECT_NE(message.find(R"(x\u001B]0;title\u0007.npy: data size does not match its shape)"), std::string::npos) << message;
+  NpyArray odd_dtype = NpyArray::of(std::vector<double>{1.0}, {1});
+  odd_dtype.dtype = "<\x1b" "8";
+  const auto arrays = parse_npz(make_npz({{"x", odd_dtype}}));
+  const std::string dtype = error_of([&] { (void)arrays.at("x").values<double>(); });
+  EXPECT_NE(dtype.find(R"(array has dtype <\u001B8, expected <f8)"), std::string::npos) << dtype;
+}
+
 TEST(Npz, NpyHeadersArePaddedSoDataIsAligned) {
   // NEP 1: the header (magic through newline) is padded to a multiple of 64 bytes.
   const std::string bytes = make_npz({{"a", NpyArray::of(std::vector<double>{1.0, 2.0}, {2})}});
@@ -171,6 +186,41 @@ TEST(Frames, NpzRoundTrip) {
   EXPECT_EQ(g.pressure(), f.pressure());
   EXPECT_EQ(g.kind(), f.kind());
   EXPECT_EQ(g.id(), f.id());
+}
+
+// Render and analyze place, size and order particles by the time, the spacing and the positions: a
+// frame with a NaN or an infinity there (or a spacing that is not positive) is refused, saying what.
+TEST(Frames, ATimeSpacingOrPositionThatIsNotFiniteIsRefused) {
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  const auto message = [](const Frame& f) { return error_of([&] { frame_from_npz(frame_to_npz(f), "frames/f.npz"); }); };
+  Frame f = small_frame();
+  f.position()[3] = nan;  // particle 1's y
+  EXPECT_NE(message(f).find("frames/f.npz: not a sluice frame: the position of particle id 1 (row 1 of x) is not "
+                            "finite: [1, nan]"),
+            std::string::npos)
+      << message(f);
+  f = small_frame();
+  f.position()[4] = -inf;
+  EXPECT_NE(message(f).find("the position of particle id 2 (row 2 of x) is not finite: [-inf, 2.5]"), std::string::npos)
+      << message(f);
+  for (const double t : {nan, inf}) {
+    f = small_frame();
+    f.time = t;
+    EXPECT_NE(message(f).find(fmt::format("frames/f.npz: not a sluice frame: its time t = {} is not finite", t)),
+              std::string::npos)
+        << message(f);
+  }
+  for (const double dx : {0.0, -0.025, nan, inf}) {
+    f = small_frame();
+    f.dx = dx;
+    EXPECT_NE(message(f).find(fmt::format("frames/f.npz: not a sluice frame: dx = {} is not a positive spacing", dx)),
+              std::string::npos)
+        << message(f);
+  }
+  // Other fields may hold anything a run can: a NaN velocity is read back.
+  f = small_frame();
+  f.velocity()[0] = nan;
+  EXPECT_TRUE(std::isnan(frame_from_npz(frame_to_npz(f), "f.npz").velocity()[0]));
 }
 
 TEST(Frames, NpzOfTheSameFrameIsTheSameBytes) {
@@ -592,6 +642,21 @@ TEST_F(CheckpointFile, TheFieldTableNamesEachFieldOfTheRegistry) {
   renamed.replace(velocity, 8, "velocitx");
   const std::string message = error_of([&] { parse_checkpoint(with_crc_fixed(renamed), "r.bin"); });
   EXPECT_NE(message.find("field 'velocitx' where 'velocity' was expected"), std::string::npos) << message;
+}
+
+// Text read from the file reaches the message escaped: a field name holding a terminal's escape
+// sequence (colour, or worse) is shown as \u001B, never sent to the terminal.
+TEST_F(CheckpointFile, AFieldNameFromTheFileIsShownEscaped) {
+  const std::string stored_case = case_template(sim_->config());
+  const auto velocity = bytes_.find("velocity", bytes_.find(stored_case) + stored_case.size());
+  ASSERT_NE(velocity, std::string::npos);
+  std::string renamed = bytes_;
+  renamed.replace(velocity, 8, "\x1b[31m\x9b\xffv");  // same length: ESC [ 3 1 m, a C1 byte, a non-UTF-8 byte, v
+  const std::string message = error_of([&] { parse_checkpoint(with_crc_fixed(renamed), "r.bin"); });
+  EXPECT_NE(message.find(R"(r.bin: not a usable checkpoint: field '\u001B[31m\x9B\xFFv' where 'velocity' was expected)"),
+            std::string::npos)
+      << message;
+  for (const char c : message) EXPECT_FALSE(static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f) << message;
 }
 
 TEST_F(CheckpointFile, TruncatedOrForeignFilesAreClearErrors) {

@@ -12,6 +12,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 #include <string>
@@ -402,6 +403,40 @@ TEST_F(MeshFiles, EachBadMeshIsAnErrorNamingTheFileAndWhatWasExpected) {
                   {"wall[0].shape = \"mesh\"", "a triangle mesh is a 3D shape and this case is 2D"});
   // A good mesh with all of that fixed.
   EXPECT_NO_THROW(parse(wall_mesh("cube.stl")));
+}
+
+// A corner that is not a number (or at infinity) is refused before the corners are joined (a NaN
+// in their ordered map broke its ordering), naming the triangle and the corner, in every format.
+TEST_F(MeshFiles, NonFiniteVerticesAreRefusedNamingTheVertex) {
+  const TriangleMesh cube = box_mesh({0.1, 0.1, 0.1}, {0.3, 0.3, 0.3});
+  // The text with its n-th "vertex" line (from 1) replaced by `line`.
+  const auto with_vertex = [](std::string text, int n, const std::string& line) {
+    std::size_t at = 0;
+    for (int k = 0; k < n; ++k) at = text.find("vertex ", at + 1);
+    text.replace(at, text.find('\n', at) - at, line);
+    return text;
+  };
+  write("nan.stl", with_vertex(ascii_stl(cube), 10, "vertex nan 0.1 0.3"));
+  write("inf.stl", with_vertex(ascii_stl(cube), 6, "vertex 0.1 inf 0.3"));
+  TriangleMesh nan_cube = cube;
+  nan_cube.vertices[7][2] = std::numeric_limits<double>::quiet_NaN();
+  write("nan_binary.stl", binary_stl(nan_cube));
+  write("nan.obj", obj(nan_cube));
+  expect_contains(error_of(wall_mesh("nan.stl")),
+                  {"case.toml: [[wall]] number 1: mesh file \"nan.stl\"",
+                   "vertex 1 of triangle 4 is not finite: (nan, 0.1, 0.3); expected three finite coordinates"});
+  expect_contains(error_of(wall_mesh("inf.stl")), {"inf.stl", "vertex 3 of triangle 2 is not finite: (0.1, inf, 0.3)"});
+  for (const char* file : {"nan_binary.stl", "nan.obj"}) {
+    SCOPED_TRACE(file);
+    expect_contains(error_of(wall_mesh(file)), {file, "of triangle", "is not finite: (0.3, 0.3, nan)"});
+  }
+  // A mesh made in memory is checked too: a NaN vertex is not hidden by the bounding box.
+  try {
+    check_closed_mesh(nan_cube);
+    ADD_FAILURE() << "a NaN vertex was accepted";
+  } catch (const MeshError& e) {
+    expect_contains(e.what(), {"vertex 8 (0.3, 0.3, nan) is not finite"});
+  }
 }
 
 TEST(MeshCase, ShippedDamBreak3DBuildsWithItsCylinderAndNoWaterInsideAWall) {

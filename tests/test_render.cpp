@@ -619,6 +619,32 @@ TEST(RenderRun, DamagedOrMissingFrameIsAClearErrorAndWritesNothing) {
   }
 }
 
+// A frame whose positions or time are not finite was drawn (the particle left out, the time stamp
+// "nan"): it is refused, naming the frame's file, and nothing is written.
+TEST(RenderRun, AFrameWithANonFinitePositionOrTimeIsRefused) {
+  for (const bool time : {false, true}) {
+    SCOPED_TRACE(time ? "time" : "position");
+    TempDir tmp;
+    write_test_run(tmp.path, 4);
+    const fs::path bad = tmp.path / "frames" / "frame_000002.npz";
+    Frame f = frame_from_npz(read_file(bad), "frame 2");
+    if (time) f.time = std::numeric_limits<double>::quiet_NaN();
+    else f.position()[7] = std::numeric_limits<double>::quiet_NaN();
+    write_file_atomic(bad, frame_to_npz(f));
+    try {
+      render_run(tmp.path, RenderOptions{});
+      FAIL() << "no error for a frame that is not finite";
+    } catch (const FormatError& e) {
+      EXPECT_NE(std::string(e.what()).find(bad.string() + ": not a sluice frame: " +
+                                           (time ? "its time t = nan is not finite"
+                                                 : "the position of particle id 3 (row 3 of x) is not finite")),
+                std::string::npos)
+          << e.what();
+    }
+    EXPECT_FALSE(fs::exists(tmp.path / "speed.gif"));
+  }
+}
+
 TEST(RenderRun, Mp4NeedsFfmpegOrSaysSo) {
   TempDir tmp;
   write_test_run(tmp.path, 3);

@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 
+#include "sluice/case/value_text.hpp"
 #include "sluice/io/atomic_file.hpp"
 
 namespace sluice::analysis {
@@ -16,6 +17,13 @@ std::string_view trim(std::string_view s) {
   if (first == std::string_view::npos) return {};
   const auto last = s.find_last_not_of(" \t\r");
   return s.substr(first, last - first + 1);
+}
+
+// The columns' names as messages show them (read from a file: control characters escaped).
+std::string column_list(const std::vector<std::string>& columns, std::string_view separator) {
+  std::string out;
+  for (const auto& c : columns) out += (out.empty() ? "" : std::string(separator)) + printable(c);
+  return out;
 }
 
 std::vector<std::string_view> split(std::string_view line) {
@@ -35,7 +43,7 @@ std::vector<std::string_view> split(std::string_view line) {
 std::size_t Table::column(std::string_view name) const {
   for (std::size_t i = 0; i < columns.size(); ++i)
     if (columns[i] == name) return i;
-  throw AnalysisError(fmt::format("{}: no column '{}'; the columns are {}", source, name, fmt::join(columns, ", ")));
+  throw AnalysisError(fmt::format("{}: no column '{}'; the columns are {}", source, name, column_list(columns, ", ")));
 }
 
 std::vector<double> Table::values(std::string_view name) const {
@@ -76,7 +84,7 @@ Table parse_csv_table(std::string_view text, const std::string& source) {
     }
     if (fields.size() != t.columns.size())
       throw AnalysisError(fmt::format("{}:{}: {} value{} in a row; expected {} ({})", source, line_number, fields.size(),
-                                      fields.size() == 1 ? "" : "s", t.columns.size(), fmt::join(t.columns, ",")));
+                                      fields.size() == 1 ? "" : "s", t.columns.size(), column_list(t.columns, ",")));
     std::vector<double> row;
     for (std::size_t k = 0; k < fields.size(); ++k) {
       double v = 0.0;
@@ -84,7 +92,7 @@ Table parse_csv_table(std::string_view text, const std::string& source) {
       const auto [ptr, ec] = std::from_chars(f.data(), f.data() + f.size(), v);
       if (ec != std::errc() || ptr != f.data() + f.size() || !std::isfinite(v))
         throw AnalysisError(fmt::format("{}:{}: column '{}': '{}' is not a finite number", source, line_number,
-                                        t.columns[k], f));
+                                        printable(t.columns[k]), printable(f)));
       row.push_back(v);
     }
     t.rows.push_back(std::move(row));

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <set>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -15,6 +16,38 @@
 namespace sluice {
 
 namespace {
+
+std::string point_text(const Vec2& p) { return fmt::format("({}, {})", p[0], p[1]); }
+
+// Which side of the line from a to b c lies on: +1 left, -1 right, 0 on it (within a relative
+// 1e-12 of the triangle's scale, so that a point computed to lie on the line counts as on it).
+int side(const Vec2& a, const Vec2& b, const Vec2& c) {
+  const double twice_area = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+  const double scale =
+      (std::abs(b[0] - a[0]) + std::abs(b[1] - a[1])) * (std::abs(c[0] - a[0]) + std::abs(c[1] - a[1]));
+  if (std::abs(twice_area) <= 1e-12 * scale) return 0;
+  return twice_area > 0.0 ? 1 : -1;
+}
+
+// p, on the line through a and b, lies between them.
+bool within(const Vec2& a, const Vec2& b, const Vec2& p) {
+  return std::min(a[0], b[0]) <= p[0] && p[0] <= std::max(a[0], b[0]) && std::min(a[1], b[1]) <= p[1] &&
+         p[1] <= std::max(a[1], b[1]);
+}
+
+// How the segments ab and cd meet: "crosses" (each passes through the other), "touches" (an end of
+// one lies on the other, or they overlap along a line), or empty if they have no point in common.
+std::string_view meeting(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+  if (std::max(a[0], b[0]) < std::min(c[0], d[0]) || std::max(c[0], d[0]) < std::min(a[0], b[0]) ||
+      std::max(a[1], b[1]) < std::min(c[1], d[1]) || std::max(c[1], d[1]) < std::min(a[1], b[1]))
+    return {};
+  const int sa = side(c, d, a), sb = side(c, d, b), sc = side(a, b, c), sd = side(a, b, d);
+  if (sa * sb < 0 && sc * sd < 0) return "crosses";
+  if ((sa == 0 && within(c, d, a)) || (sb == 0 && within(c, d, b)) || (sc == 0 && within(a, b, c)) ||
+      (sd == 0 && within(a, b, d)))
+    return "touches";
+  return {};
+}
 
 // Raises the problems of one case, all prefixed with where the case came from.
 struct Checker {
@@ -34,6 +67,19 @@ struct Checker {
       fail(fmt::format("case.name = {}: not a usable name; expected a non-empty name without slashes or control "
                        "characters, other than \".\" and \"..\" (it names the output folder out/<name>)",
                        quote(c.name)));
+    // The longest file name made of it is the .pvd file's temporary <name>.pvd.tmp<process id>
+    // (io/atomic_file.cpp), a process id having up to 7 digits (Linux's pid_max is at most 2^22): it
+    // must fit in a file name of 255 bytes, or the run fails after writing its first frame.
+    constexpr std::size_t longest_file_name = 255;
+    constexpr std::size_t max_length = longest_file_name - std::string_view(".pvd.tmp4194304").size();
+    if (c.name.size() > max_length) {
+      std::size_t shown = 40;  // the start of the name, cut between two UTF-8 characters
+      while (shown > 0 && (static_cast<unsigned char>(c.name[shown]) & 0xC0u) == 0x80u) --shown;
+      fail(fmt::format("case.name = {}...: too long, {} bytes; expected at most {} bytes (it names the output folder "
+                       "out/<name> and the file <name>.pvd in it, written through a temporary <name>.pvd.tmp<process "
+                       "id>, and a file name holds at most {} bytes)",
+                       quote(c.name.substr(0, shown)), c.name.size(), max_length, longest_file_name));
+    }
   }
 
   void check_tank_size() const {
@@ -71,9 +117,48 @@ struct Checker {
       }
       twice_area += r.points[j][0] * r.points[k][1] - r.points[k][0] * r.points[j][1];
     }
+    check_simple_polygon(r.points, what, i);
     if (std::abs(twice_area) < 1e-12 * std::max(1.0, (hi[0] - lo[0]) * (hi[1] - lo[1])))
       fail(fmt::format("[[{}]] number {}: the polygon's points enclose no area", what, i + 1));
     return {lo, hi};
+  }
+
+  // The set-up fills a polygon by the crossing rule and lays its wall particles along its edges: a
+  // polygon whose edges cross or touch has no single inside, and an edge of no length no direction.
+  // Edge k runs from point k to point k + 1 (the last back to point 1). Two edges after one another
+  // share a corner; one that turns back along the other is caught too, as an end of one of them then
+  // lies on the edge before or after the other (with 3 points, the polygon encloses no area).
+  void check_simple_polygon(const std::vector<Vec2>& points, const std::string& what, std::size_t i) const {
+    const std::size_t n = points.size();
+    const std::string expected = "expected a simple polygon, whose edges meet only at the corners they share";
+    // Repeated points, found in sorted order.
+    std::vector<std::size_t> order(n);
+    for (std::size_t k = 0; k < n; ++k) order[k] = k;
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      return points[a] < points[b] || (points[a] == points[b] && a < b);
+    });
+    for (std::size_t k = 1; k < n; ++k) {
+      const std::size_t a = order[k - 1], b = order[k];
+      if (points[a] != points[b]) continue;
+      if (b == a + 1 || (a == 0 && b == n - 1))
+        fail(fmt::format("[[{}]] number {}: points {} and {} are the same point {}, so that edge {} has no length; "
+                         "expected distinct points one after another (the polygon closes itself from its last point "
+                         "back to its first: the first point is not repeated at the end)",
+                         what, i + 1, a + 1, b + 1, point_text(points[a]), b == a + 1 ? a + 1 : n));
+      fail(fmt::format("[[{}]] number {}: points {} and {} are the same point {}: the polygon touches itself there; {}",
+                       what, i + 1, a + 1, b + 1, point_text(points[a]), expected));
+    }
+    const auto edge_text = [&](std::size_t k) {
+      return fmt::format("edge {} (from {} to {})", k + 1, point_text(points[k]), point_text(points[(k + 1) % n]));
+    };
+    for (std::size_t k = 0; k < n; ++k)
+      for (std::size_t m = k + 2; m < n; ++m) {
+        if (k == 0 && m == n - 1) continue;  // the last edge ends where the first begins
+        const std::string_view how = meeting(points[k], points[(k + 1) % n], points[m], points[(m + 1) % n]);
+        if (!how.empty())
+          fail(fmt::format("[[{}]] number {}: the polygon {} itself: {} {} {}; {}", what, i + 1, how, edge_text(k), how,
+                           edge_text(m), expected));
+      }
   }
 
   // The bounding box of a mesh region, read and checked by load_meshes (case/meshes.hpp).
@@ -145,12 +230,33 @@ struct Checker {
     for (std::size_t i = 0; i < c.probes.size(); ++i) {
       const Probe& p = c.probes[i];
       if (p.name.empty() || p.name.find_first_of("/\\ ") != std::string::npos)
-        fail(fmt::format("[[probe]] number {}: name \"{}\" must be non-empty, without spaces or slashes", i + 1,
-                         p.name));
-      if (!names.insert(p.name).second) fail(fmt::format("[[probe]] name \"{}\" is used twice", p.name));
+        fail(fmt::format("[[probe]] number {}: name {} must be non-empty, without spaces or slashes", i + 1,
+                         quote(p.name)));
+      if (!names.insert(p.name).second) fail(fmt::format("[[probe]] name {} is used twice", quote(p.name)));
       if (p.type == ProbeType::front && norm(p.direction) == 0.0)
-        fail(fmt::format("[[probe]] \"{}\": direction must not be {}", p.name, format_vector(p.direction, c.dimension)));
+        fail(fmt::format("[[probe]] {}: direction must not be {}", quote(p.name),
+                         format_vector(p.direction, c.dimension)));
+      check_probe_inside_tank(p);
     }
+  }
+
+  // Every probe samples the particles around its point (a pressure probe), on the vertical line
+  // through it from its foot (a gauge) or measures from it (a front): outside the tank a pressure
+  // probe or a gauge finds no water and records zeros for the whole run.
+  void check_probe_inside_tank(const Probe& p) const {
+    const Vec3 tank = c.tank_size();
+    const double tol = 1e-9 * *std::max_element(tank.begin(), tank.begin() + c.dimension);
+    std::vector<std::string> extent;
+    for (int d = 0; d < c.dimension; ++d) extent.push_back(fmt::format("[0, {}]", tank[d]));
+    const std::string at = format_vector(p.point, c.dimension);
+    const std::string what = p.type == ProbeType::pressure ? "a pressure probe at " + at
+                             : p.type == ProbeType::gauge  ? "a gauge on the vertical line through " + at
+                                                           : "a front probe measuring from " + at;
+    for (int d = 0; d < c.dimension; ++d)
+      if (!(p.point[d] >= -tol && p.point[d] <= tank[d] + tol))
+        fail(fmt::format("[[probe]] {} ({}) lies outside the tank {}: {} = {} is not within [0, {}]; expected a point "
+                         "inside the tank",
+                         quote(p.name), what, fmt::join(extent, " x "), "xyz"[d], p.point[d], tank[d]));
   }
 
   // The wall function replaces the wall friction: it adds to walls that have none of their own, and

@@ -60,7 +60,7 @@ class Loader {
   [[noreturn]] void fail_unknown_section(const std::string& name, const toml::node& node) const {
     if (!node.is_table() && !node.is_array()) {  // a key written before any [section] header
       const auto near = closest_match(name, all_keys());
-      throw CaseError(fmt::format("{}: key '{}' is outside any section; {}", where(source_, node), name,
+      throw CaseError(fmt::format("{}: key '{}' is outside any section; {}", where(source_, node), printable(name),
                                   near ? fmt::format("did you mean '{}' (key '{}' under [{}])?", *near,
                                                      near->substr(near->find('.') + 1),
                                                      near->substr(0, near->find('.')))
@@ -69,7 +69,7 @@ class Loader {
     std::vector<std::string> section_names;
     for (const auto& s : case_sections()) section_names.push_back(s.name);
     const auto near = closest_match(name, section_names);
-    throw CaseError(fmt::format("{}: unknown section '{}'{}", where(source_, node), name,
+    throw CaseError(fmt::format("{}: unknown section '{}'{}", where(source_, node), printable(name),
                                 near ? fmt::format("; did you mean '{}'?", *near)
                                      : fmt::format("; expected one of: {}", fmt::join(section_names, ", "))));
   }
@@ -114,7 +114,7 @@ class Loader {
       if (p == nullptr) {
         const auto candidates = keys_of(params);
         const auto near = closest_match(key, candidates);
-        throw CaseError(fmt::format("{}: unknown key '{}' in [[{}]]{}", where(source_, node), key, section,
+        throw CaseError(fmt::format("{}: unknown key '{}' in [[{}]]{}", where(source_, node), printable(key), section,
                                     near ? fmt::format("; did you mean '{}'?", *near)
                                          : fmt::format("; expected one of: {}", fmt::join(candidates, ", "))));
       }

@@ -88,6 +88,11 @@ struct Assignment {
 };
 
 Assignment split_assignment(std::string_view assignment) {
+  // A case file is UTF-8 (TOML), and so is the case a checkpoint stores: a string holding other bytes
+  // cannot be written there as TOML, and the run could not be restarted from its checkpoint.
+  if (!is_utf8(assignment))
+    throw CaseError(fmt::format("--set {}: not UTF-8 text; expected the key and value as UTF-8, as in a case file",
+                                printable(assignment)));
   Assignment a;
   a.at = fmt::format("--set {}", assignment);
   const auto eq = assignment.find('=');

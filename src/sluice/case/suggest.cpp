@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "sluice/case/case_error.hpp"
+#include "sluice/case/value_text.hpp"
 
 namespace sluice {
 
@@ -55,8 +56,8 @@ std::optional<std::string> closest_match(std::string_view word, const std::vecto
 
 void fail_unknown_key(const std::string& at, const std::string& key, const std::vector<std::string>& candidates) {
   const auto near = closest_match(key, candidates);
-  if (near) throw CaseError(fmt::format("{}: unknown key '{}'; did you mean '{}'?", at, key, *near));
-  throw CaseError(fmt::format("{}: unknown key '{}'; see `sluice init` for every key", at, key));
+  if (near) throw CaseError(fmt::format("{}: unknown key '{}'; did you mean '{}'?", at, printable(key), *near));
+  throw CaseError(fmt::format("{}: unknown key '{}'; see `sluice init` for every key", at, printable(key)));
 }
 
 }  // namespace sluice

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <string_view>
 #include <type_traits>
 #include <utility>
 #include <variant>
@@ -16,26 +17,76 @@ std::string format_number(double v) {
   return s;
 }
 
-std::string quote(const std::string& s) {
-  std::string out = "\"";
-  for (char ch : s) {
-    const auto u = static_cast<unsigned char>(ch);
-    if (ch == '"' || ch == '\\') {
-      out += '\\';
-      out += ch;
-    } else if (ch == '\n') {
-      out += "\\n";
-    } else if (ch == '\t') {
-      out += "\\t";
-    } else if (ch == '\r') {
-      out += "\\r";
-    } else if (u < 0x20 || u == 0x7f) {
-      out += fmt::format("\\u{:04X}", static_cast<unsigned>(u));
-    } else {
-      out += ch;
-    }
+namespace {
+
+// The code point of the UTF-8 sequence that starts s[at] and its length in bytes; length 0 where the
+// bytes there are not UTF-8 (a stray continuation byte, a truncated or overlong sequence, a
+// surrogate, past U+10FFFF).
+std::pair<char32_t, std::size_t> utf8_at(std::string_view s, std::size_t at) {
+  const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(s[at + k]); };
+  const unsigned char lead = byte(0);
+  if (lead < 0x80) return {lead, 1};
+  // The lead byte gives the length and the code point's first bits (0xC0, 0xC1, 0xF5 and above
+  // begin no sequence).
+  const std::size_t length = lead >= 0xC2 && lead <= 0xDF ? 2 : lead >= 0xE0 && lead <= 0xEF ? 3
+                             : lead >= 0xF0 && lead <= 0xF4 ? 4 : 0;
+  if (length == 0 || s.size() - at < length) return {0, 0};
+  char32_t code = lead & (0x7Fu >> length);
+  for (std::size_t k = 1; k < length; ++k) {
+    if ((byte(k) & 0xC0u) != 0x80u) return {0, 0};
+    code = (code << 6) | (byte(k) & 0x3Fu);
   }
-  return out + "\"";
+  const char32_t least[] = {0, 0, 0x80, 0x800, 0x10000};
+  if (code < least[length] || code > 0x10FFFF || (code >= 0xD800 && code <= 0xDFFF)) return {0, 0};
+  return {code, length};
+}
+
+// s with every character that a terminal could take as a command escaped: the C0 controls and DEL
+// (\n, \t, \r, else \u001B), the C1 controls U+0080 to U+009F (\u009B) and each byte that is not part
+// of a UTF-8 character (\xFF). With `toml_string` also " and \, so that the result between double
+// quotes is a TOML basic string.
+std::string escaped(std::string_view s, bool toml_string) {
+  std::string out;
+  out.reserve(s.size());
+  for (std::size_t at = 0; at < s.size();) {
+    const auto [code, length] = utf8_at(s, at);
+    if (length == 0) {
+      out += fmt::format("\\x{:02X}", static_cast<unsigned>(static_cast<unsigned char>(s[at])));
+      ++at;
+      continue;
+    }
+    if (toml_string && (code == '"' || code == '\\')) {
+      out += '\\';
+      out += static_cast<char>(code);
+    } else if (code == '\n') {
+      out += "\\n";
+    } else if (code == '\t') {
+      out += "\\t";
+    } else if (code == '\r') {
+      out += "\\r";
+    } else if (code < 0x20 || (code >= 0x7F && code <= 0x9F)) {
+      out += fmt::format("\\u{:04X}", static_cast<unsigned>(code));
+    } else {
+      out.append(s, at, length);
+    }
+    at += length;
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string quote(const std::string& s) { return '"' + escaped(s, true) + '"'; }
+
+std::string printable(std::string_view text) { return escaped(text, false); }
+
+bool is_utf8(std::string_view text) {
+  for (std::size_t at = 0; at < text.size();) {
+    const std::size_t length = utf8_at(text, at).second;
+    if (length == 0) return false;
+    at += length;
+  }
+  return true;
 }
 
 std::string format_vector(const Vec3& v, int dimension) {

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <map>
@@ -68,8 +69,14 @@ TriangleMesh read_mesh(std::string_view bytes, const std::string& name) {
   }
   TriangleMesh m;
   std::map<Vec<3>, std::uint32_t> index_of;  // equal corners joined
-  auto vertex = [&](const aiVector3D& v) {
+  // Corner `corner` (from 1) of the next triangle. A NaN would break the map's ordering, and a corner
+  // at infinity has no place: each coordinate must be finite.
+  auto vertex = [&](const aiVector3D& v, int corner) {
     const Vec<3> p{as_written(v.x), as_written(v.y), as_written(v.z)};
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+      throw MeshError(fmt::format("vertex {} of triangle {} is not finite: ({:g}, {:g}, {:g}); expected three finite "
+                                  "coordinates",
+                                  corner, m.triangles.size() + 1, p[0], p[1], p[2]));
     const auto [it, added] = index_of.emplace(p, static_cast<std::uint32_t>(m.vertices.size()));
     if (added) m.vertices.push_back(p);
     return it->second;
@@ -82,8 +89,9 @@ TriangleMesh read_mesh(std::string_view bytes, const std::string& name) {
         throw MeshError(fmt::format("it holds a {} (a face with {} corner{}); expected triangles only",
                                     face.mNumIndices == 2 ? "line" : "point", face.mNumIndices,
                                     face.mNumIndices == 1 ? "" : "s"));
-      m.triangles.push_back({vertex(mesh->mVertices[face.mIndices[0]]), vertex(mesh->mVertices[face.mIndices[1]]),
-                             vertex(mesh->mVertices[face.mIndices[2]])});
+      m.triangles.push_back({vertex(mesh->mVertices[face.mIndices[0]], 1),
+                             vertex(mesh->mVertices[face.mIndices[1]], 2),
+                             vertex(mesh->mVertices[face.mIndices[2]], 3)});
     }
   }
   return m;

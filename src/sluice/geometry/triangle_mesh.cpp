@@ -57,9 +57,16 @@ void check_closed_mesh(const TriangleMesh& m) {
     for (std::uint32_t i : t)
       if (i >= m.vertices.size())
         throw MeshError(fmt::format("a triangle refers to vertex {} of {}", i + 1, m.vertices.size()));
+  // Each vertex, before the bounding box: std::min and std::max pass over a NaN.
+  for (std::size_t k = 0; k < m.vertices.size(); ++k)
+    if (!std::isfinite(m.vertices[k][0]) || !std::isfinite(m.vertices[k][1]) || !std::isfinite(m.vertices[k][2]))
+      throw MeshError(fmt::format("vertex {} {} is not finite; expected three finite coordinates", k + 1,
+                                  point_text(m.vertices[k])));
   const Vec<3> lo = m.lower(), hi = m.upper();
   const double size = norm(hi - lo);
-  if (!std::isfinite(size)) throw MeshError("a vertex is not a finite number");
+  if (!std::isfinite(size))
+    throw MeshError(fmt::format("it spans from {} to {}, beyond the range of numbers; expected a mesh of a finite size",
+                                point_text(lo), point_text(hi)));
   // A triangle whose area is below this (relative to the mesh's size squared) has no direction.
   const double min_twice_area = 1e-12 * size * size;
   for (std::size_t k = 0; k < m.triangles.size(); ++k) {

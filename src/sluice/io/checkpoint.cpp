@@ -11,6 +11,7 @@
 
 #include "sluice/case/case_error.hpp"
 #include "sluice/case/params.hpp"
+#include "sluice/case/value_text.hpp"
 #include "sluice/io/atomic_file.hpp"
 #include "sluice/io/npz.hpp"
 
@@ -160,7 +161,7 @@ Particles<Dim> get_particles(Reader& r, std::size_t n, bool rates_carried) {
     if (!info.has(roles)) return;
     const auto length = r.get<std::uint16_t>();
     const std::string name = r.get_string(length);
-    if (name != info.name) r.fail(fmt::format("field '{}' where '{}' was expected", name, info.name));
+    if (name != info.name) r.fail(fmt::format("field '{}' where '{}' was expected", printable(name), info.name));
     const auto code = r.get<std::uint8_t>();
     const auto components = r.get<std::uint8_t>();
     const FieldLayout want = layout_of(field);

@@ -1,8 +1,10 @@
 #include "sluice/io/frames.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <numeric>
 #include <type_traits>
@@ -72,6 +74,26 @@ std::vector<FrameField> frame_fields(const Particles<Dim>& p, const std::vector<
 template <class T>
 void read_values(const NpyArray& array, std::vector<T>& values) {
   values = array.values<T>();
+}
+
+// What render and analyze place, size and order the particles by: the time, the spacing and the
+// positions. A run stops before it writes a state that is not finite (its instability guard), so a
+// NaN or an infinity there is a damaged or foreign file, which would be drawn or measured silently
+// wrong.
+void check_finite(const Frame& f) {
+  if (!std::isfinite(f.time)) throw FormatError(fmt::format("its time t = {} is not finite", f.time));
+  if (!(f.dx > 0.0) || !std::isfinite(f.dx))
+    throw FormatError(fmt::format("dx = {} is not a positive spacing", f.dx));
+  const auto& x = f.position();
+  const auto dim = static_cast<std::size_t>(f.dimension);
+  for (std::size_t i = 0; i < x.size(); ++i)
+    if (!std::isfinite(x[i])) {
+      const std::size_t row = i / dim;
+      std::vector<double> at(x.begin() + static_cast<std::ptrdiff_t>(dim * row),
+                             x.begin() + static_cast<std::ptrdiff_t>(dim * (row + 1)));
+      throw FormatError(fmt::format("the position of particle id {} (row {} of x) is not finite: [{}]", f.id()[row],
+                                    row, fmt::join(at, ", ")));
+    }
 }
 
 }  // namespace
@@ -154,6 +176,7 @@ Frame frame_from_npz(const std::string& bytes, const std::string& source) {
     for (const FrameField& field : f.fields)
       if (field.element_count() != (field.vector ? x_shape[1] : 1) * n)
         throw FormatError("arrays have inconsistent lengths");
+    check_finite(f);
     return f;
   } catch (const FormatError& e) {
     throw FormatError(fmt::format("{}: not a sluice frame: {}", source, e.what()));

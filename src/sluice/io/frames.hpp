@@ -80,6 +80,8 @@ Frame make_frame(const Simulation& sim);
 // write_frame_npz streams the file to `out` without copying the frame's arrays; frame_to_npz returns it.
 void write_frame_npz(const Frame& f, const ByteSink& out);
 std::string frame_to_npz(const Frame& f);
+// A frame read back: FormatError "<source>: not a sluice frame: ..." if an array is missing or
+// malformed, or the time, dx or a position is not finite (dx not positive).
 Frame frame_from_npz(const std::string& bytes, const std::string& source);
 Frame read_npz_frame(const std::filesystem::path& path);
 

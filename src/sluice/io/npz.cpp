@@ -10,6 +10,8 @@
 #include <cstring>
 #include <string_view>
 
+#include "sluice/case/value_text.hpp"
+
 namespace sluice {
 
 static_assert(std::endian::native == std::endian::little, "sluice writes little-endian files");
@@ -52,7 +54,7 @@ std::size_t NpyArray::element_count() const {
 template <class T>
 std::vector<T> NpyArray::values() const {
   if (dtype != npy_dtype<T>())
-    throw FormatError(fmt::format("array has dtype {}, expected {}", dtype, npy_dtype<T>()));
+    throw FormatError(fmt::format("array has dtype {}, expected {}", printable(dtype), npy_dtype<T>()));
   if (bytes.size() != element_count() * sizeof(T))
     throw FormatError(fmt::format("array holds {} bytes, its shape needs {}", bytes.size(), element_count() * sizeof(T)));
   std::vector<T> v(element_count());
@@ -157,7 +159,7 @@ NpyArray parse_npy(const std::string& b, const std::string& name) {
     const auto [end, err] = std::from_chars(digits.data(), digits.data() + digits.size(), dim);
     // Each dimension, and the element count, must fit comfortably in memory arithmetic.
     if (err != std::errc() || end != digits.data() + digits.size() || (dim != 0 && count > (std::size_t{1} << 48) / dim))
-      throw FormatError(fmt::format("{}: .npy shape ({}) is too large", name, dims));
+      throw FormatError(fmt::format("{}: .npy shape ({}) is too large", name, printable(dims)));
     count *= dim;
     a.shape.push_back(dim);
   }
@@ -271,7 +273,8 @@ std::map<std::string, NpyArray> parse_npz(const std::string& bytes) {
     const std::uint16_t comment_len = get<std::uint16_t>(bytes, at + 32);
     const std::uint32_t local = get<std::uint32_t>(bytes, at + 42);
     if (at + 46 + name_len > bytes.size()) throw FormatError("truncated zip central directory");
-    const std::string name = bytes.substr(at + 46, name_len);
+    const std::string entry = bytes.substr(at + 46, name_len);
+    const std::string name = printable(entry);  // as messages show it
     at += 46 + name_len + extra_len + comment_len;
     if (method != 0 || csize != usize)
       throw FormatError(fmt::format("{}: compressed zip entries are not supported (sluice writes stored entries)", name));
@@ -281,12 +284,12 @@ std::map<std::string, NpyArray> parse_npz(const std::string& bytes) {
     const std::string data = bytes.substr(data_at, usize);
     const std::uint32_t actual = crc32_of(0, data);
     if (actual != crc) throw FormatError(fmt::format("{}: checksum mismatch (file damaged)", name));
-    std::string key = name;
+    std::string key = entry;
     if (key.size() > 4 && key.ends_with(".npy")) key.resize(key.size() - 4);
     NpyArray array = parse_npy(data, name);
     const std::string& dt = array.dtype;
     if (dt.size() != 3 || std::string("<|>").find(dt[0]) == std::string::npos || dt[2] < '1' || dt[2] > '8')
-      throw FormatError(fmt::format("{}: unsupported dtype '{}'", name, dt));
+      throw FormatError(fmt::format("{}: unsupported dtype '{}'", name, printable(dt)));
     if (array.bytes.size() != array.element_count() * static_cast<std::size_t>(dt[2] - '0'))
       throw FormatError(fmt::format("{}: data size does not match its shape", name));
     arrays.emplace(key, std::move(array));

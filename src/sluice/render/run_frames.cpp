@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <cmath>
 #include <map>
 #include <regex>
 
@@ -43,11 +42,6 @@ std::vector<std::pair<std::int64_t, fs::path>> list_frames(const fs::path& run_d
   return out;
 }
 
-FrameData read_frame(const fs::path& path, Field field) {
-  FrameData d = extract(read_npz_frame(path), field);
-  if (!(d.dx > 0.0) || !std::isfinite(d.dx))
-    throw FormatError(fmt::format("{}: not a sluice frame: dx = {} is not a positive spacing", path.string(), d.dx));
-  return d;
-}
+FrameData read_frame(const fs::path& path, Field field) { return extract(read_npz_frame(path), field); }
 
 }  // namespace sluice::render
