@@ -12,26 +12,21 @@
 
 #include <fmt/format.h>
 
+#include "sluice/case/value_text.hpp"
 #include "sluice/io/atomic_file.hpp"
 
 namespace sluice {
 
 namespace {
 
-// What the holder wrote, on one line, with anything unprintable shown as '?': the file is another
-// process's text and reaches the user's terminal.
+// What the holder wrote, on one line, escaped (text from another process reaches the terminal).
 std::string holder_of(int fd) {
   char buffer[512];
   const ssize_t n = ::pread(fd, buffer, sizeof buffer - 1, 0);
   if (n <= 0) return "another sluice process";
   std::string text(buffer, static_cast<std::size_t>(n));
   while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
-  for (char& c : text) {
-    const auto u = static_cast<unsigned char>(c);
-    if (c == '\n') c = ';';
-    else if (u < 0x20 || u == 0x7f) c = '?';
-  }
-  return text;
+  return printable(text);
 }
 
 }  // namespace
