@@ -3,7 +3,7 @@
 //
 // The contract checked: a parser either returns or throws its documented error type (CaseError for
 // case files, FormatError for checkpoints and frames, and CaseError for a checkpoint that reads but
-// holds a value no run can hold). Any other exception, a crash, a sanitizer
+// holds a value no run can hold; MeshError for meshes). Any other exception, a crash, a sanitizer
 // report, or an accepted input that breaks one of the properties below is a bug.
 #pragma once
 
@@ -19,6 +19,9 @@
 #include <vector>
 
 #include "sluice/case/params.hpp"
+#include "sluice/geometry/mesh_file.hpp"
+#include "sluice/geometry/mesh_solid.hpp"
+#include "sluice/geometry/triangle_mesh.hpp"
 #include "sluice/io/checkpoint.hpp"
 #include "sluice/io/frames.hpp"
 #include "sluice/io/npz.hpp"
@@ -224,6 +227,39 @@ inline Outcome check_frame(const std::string& bytes) {
   const Outcome as_given = check_frame_bytes(bytes);
   const Outcome fixed = check_frame_bytes(with_npz_crcs_fixed(bytes));
   return as_given == Outcome::accepted ? as_given : fixed;
+}
+
+// Meshes: bytes -> a closed triangle mesh, or MeshError, read both as STL (ASCII or binary) and as
+// OBJ. An accepted closed mesh is made into a solid and asked the queries the set-up asks (inside,
+// distance, closest point) at its corners and centre, which must answer with numbers.
+inline Outcome check_mesh_as(const std::string& bytes, const std::string& name) {
+  TriangleMesh mesh;
+  try {
+    mesh = read_mesh(bytes, name);
+    check_closed_mesh(mesh);
+  } catch (const MeshError&) {
+    return Outcome::rejected;
+  }
+  for (const Vec<3>& v : mesh.vertices)
+    require(std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]),
+            "an accepted mesh has a vertex that is not finite");
+  const MeshSolid solid(mesh);
+  const Vec<3> lo = solid.lower(), hi = solid.upper();
+  const Vec<3> centre{0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
+  for (const Vec<3>& x : {lo, hi, centre}) {
+    (void)solid.contains(x);
+    require(std::isfinite(solid.signed_distance(x)), "a distance to an accepted mesh is not finite");
+    const SurfacePoint<3> s = solid.closest_surface_point(x);
+    require(std::isfinite(s.point[0]) && std::isfinite(s.point[1]) && std::isfinite(s.point[2]),
+            "a closest point of an accepted mesh is not finite");
+  }
+  return Outcome::accepted;
+}
+
+inline Outcome check_mesh(const std::string& bytes) {
+  const Outcome stl = check_mesh_as(bytes, "fuzz.stl");
+  const Outcome obj = check_mesh_as(bytes, "fuzz.obj");
+  return stl == Outcome::accepted ? stl : obj;
 }
 
 }  // namespace sluice::fuzz

@@ -6,13 +6,13 @@
 # regression test in tests/fuzz_regressions/<target>/ once fixed).
 #
 #   FUZZ_SECONDS=600 make fuzz            # longer
-#   FUZZ_TARGETS="frame" make fuzz        # some targets only (case, checkpoint, frame)
+#   FUZZ_TARGETS="frame" make fuzz        # some targets only (case, checkpoint, frame, mesh)
 #   SLUICE_BIN=path/to/sluice             # the binary that makes the seed run (default: the release build)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 seconds=${FUZZ_SECONDS:-60}
-targets=${FUZZ_TARGETS:-case checkpoint frame}
+targets=${FUZZ_TARGETS:-case checkpoint frame mesh}
 sluice=${SLUICE_BIN:-build/release/sluice}
 dir=build/fuzz
 
@@ -35,18 +35,19 @@ for run in dam_break tiny; do
       --set case.name=tiny -o "$out" >/dev/null
   fi
 done
-mkdir -p "$dir"/corpus_case "$dir"/corpus_checkpoint "$dir"/corpus_frame
+mkdir -p "$dir"/corpus_case "$dir"/corpus_checkpoint "$dir"/corpus_frame "$dir"/corpus_mesh
 cp cases/*.toml "$dir"/corpus_case/
+cp cases/meshes/* "$dir"/corpus_mesh/
 for run in dam_break tiny; do
   cp "$dir/seed_run/$run/checkpoint.bin" "$dir/corpus_checkpoint/seed_$run.bin"
   for f in "$dir/seed_run/$run"/frames/*.npz; do cp "$f" "$dir/corpus_frame/seed_${run}_$(basename "$f")"; done
 done
-for t in case checkpoint frame; do
+for t in case checkpoint frame mesh; do
   if compgen -G "tests/fuzz_regressions/$t/*" >/dev/null; then cp tests/fuzz_regressions/$t/* "$dir/corpus_$t/"; fi
 done
 
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1}
-declare -A dict=([case]=fuzz/case.dict [checkpoint]=fuzz/checkpoint.dict [frame]=fuzz/npz.dict)
+declare -A dict=([case]=fuzz/case.dict [checkpoint]=fuzz/checkpoint.dict [frame]=fuzz/npz.dict [mesh]=fuzz/mesh.dict)
 failed=()
 for t in $targets; do
   mkdir -p "$dir/artifacts/$t"

@@ -96,6 +96,36 @@ std::string stored_zip(const std::string& name, const std::string& data) {
 TEST(FuzzRegressions, CaseInputs) { replay("case", fuzz::check_case); }
 TEST(FuzzRegressions, CheckpointInputs) { replay("checkpoint", fuzz::check_checkpoint); }
 TEST(FuzzRegressions, FrameInputs) { replay("frame", fuzz::check_frame); }
+TEST(FuzzRegressions, MeshInputs) { replay("mesh", fuzz::check_mesh); }
+
+// Hostile meshes get a clear MeshError before anything is allocated for what they claim: a binary STL
+// header claiming two billion triangles (100 GB) in a file of 134 bytes; one claiming more triangles
+// than a mesh may have; a file too short for a binary header that is not ASCII either.
+TEST(FuzzRegressions, AHostileBinaryStlIsRefusedByItsHeader) {
+  auto message_of = [](const std::string& bytes) -> std::string {
+    try {
+      check_closed_mesh(read_mesh(bytes, "m.stl"));
+    } catch (const MeshError& e) {
+      return e.what();
+    }
+    return "(accepted)";
+  };
+  auto binary = [](std::uint32_t count, std::size_t body) {
+    std::string b(80, '\0');
+    b.append(reinterpret_cast<const char*>(&count), 4);
+    return b + std::string(body, '\0');
+  };
+  EXPECT_EQ(message_of(binary(2'000'000'000u, 50)),
+            "a binary STL whose header says 2000000000 triangles (100000000084 bytes), in a file of 134 bytes; "
+            "expected a complete binary STL, or ASCII STL (which starts with \"solid\")");
+  EXPECT_NE(message_of(std::string(40, 'x')).find("40 bytes, too short for a binary STL"), std::string::npos);
+  // A header that matches its size reaches the reader and the checks (one triangle with its corners at 0).
+  EXPECT_NE(message_of(binary(1, 50)).find("degenerate"), std::string::npos) << message_of(binary(1, 50));
+  EXPECT_EQ(fuzz::check_mesh(binary(2'000'000'000u, 50)), fuzz::Outcome::rejected);
+  // The closed tetrahedron among the kept inputs is accepted, so the replay reaches the solid's queries.
+  const std::string tetrahedron = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n";
+  EXPECT_EQ(fuzz::check_mesh(tetrahedron), fuzz::Outcome::accepted);
+}
 
 // Found by reading parse_npy while fuzzing (the fuzzer itself did not reach it): its std::regex
 // matching recursed once per header character, so a long .npy header overflowed the stack: a crash

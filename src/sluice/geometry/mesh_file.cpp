@@ -8,7 +8,9 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -32,15 +34,65 @@ double as_written(ai_real x) {
   return std::strtod(shortest.c_str(), nullptr);
 }
 
+// Meshes finer than a few million triangles gain nothing at any particle spacing a run can afford, and
+// their reading alone (assimp's structures, then the corners joined) takes gigabytes.
+constexpr std::size_t kMaxTriangles = 4'000'000;
+constexpr std::size_t kMaxMeshBytes = std::size_t{512} << 20;
+
+void check_file_size(std::uintmax_t bytes) {
+  if (bytes > kMaxMeshBytes)
+    throw MeshError(fmt::format("{} MB; expected a mesh file of at most {} MB (simplify the mesh: detail finer than "
+                                "the particle spacing does not reach the particles)",
+                                bytes >> 20, kMaxMeshBytes >> 20));
+}
+
+// A binary STL is an 80-byte header, a 4-byte triangle count and 50 bytes per triangle. Checked before
+// assimp reads it, so that a count that does not match the file (two billion triangles claimed in a
+// few bytes) is refused without allocating for it. A file that starts with "solid" and is not of the
+// binary size is read as ASCII STL.
+void check_binary_stl_size(std::string_view bytes) {
+  const std::size_t first = bytes.find_first_not_of(" \t\r\n");
+  const bool says_solid = first != std::string_view::npos && bytes.substr(first, 5) == "solid";
+  if (bytes.size() < 84) {
+    if (says_solid) return;
+    throw MeshError(fmt::format("{} bytes, too short for a binary STL (an 84-byte header) and not ASCII STL (which "
+                                "starts with \"solid\"); expected a closed triangle mesh",
+                                bytes.size()));
+  }
+  std::uint32_t count = 0;
+  std::memcpy(&count, bytes.data() + 80, sizeof count);
+  const std::uint64_t expected = 84 + 50 * std::uint64_t{count};
+  if (expected == bytes.size()) {
+    if (count > kMaxTriangles)
+      throw MeshError(fmt::format("{} triangles; expected at most {} (simplify the mesh: detail finer than the "
+                                  "particle spacing does not reach the particles)",
+                                  count, kMaxTriangles));
+    return;
+  }
+  if (says_solid) return;
+  throw MeshError(fmt::format("a binary STL whose header says {} triangles ({} bytes), in a file of {} bytes; expected "
+                              "a complete binary STL, or ASCII STL (which starts with \"solid\")",
+                              count, expected, bytes.size()));
+}
+
 }  // namespace
 
 std::string read_mesh_bytes(const std::filesystem::path& path) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw MeshError("no such file");
   if (std::filesystem::is_directory(path, ec)) throw MeshError("is a directory; expected a mesh file (.stl or .obj)");
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (!ec) check_file_size(size);  // before reading it all into memory
   std::ifstream in(path, std::ios::binary);
   if (!in) throw MeshError("cannot be read");
-  std::ostringstream bytes;
+  if (!ec) {
+    // Read into one buffer of the file's size: the file's bytes are held once.
+    std::string bytes(static_cast<std::size_t>(size), '\0');
+    in.read(bytes.data(), static_cast<std::streamsize>(size));
+    if (in.bad() || in.gcount() != static_cast<std::streamsize>(size)) throw MeshError("cannot be read");
+    return bytes;
+  }
+  std::ostringstream bytes;  // not a regular file (a pipe): its size is known only once read
   bytes << in.rdbuf();
   if (in.bad()) throw MeshError("cannot be read");
   return bytes.str();
@@ -51,6 +103,8 @@ TriangleMesh read_mesh(std::string_view bytes, const std::string& name) {
   if (ext != "stl" && ext != "obj")
     throw MeshError(fmt::format("unknown mesh format '.{}'; expected a .stl (ASCII or binary) or .obj file", ext));
   if (bytes.empty()) throw MeshError("the file is empty; expected a closed triangle mesh");
+  check_file_size(bytes.size());
+  if (ext == "stl") check_binary_stl_size(bytes);
   Assimp::Importer importer;
   // Vertex transforms of the file's node tree are applied, polygons split into triangles; points and
   // lines are kept (and refused below).
@@ -81,6 +135,12 @@ TriangleMesh read_mesh(std::string_view bytes, const std::string& name) {
     if (added) m.vertices.push_back(p);
     return it->second;
   };
+  std::size_t faces = 0;
+  for (unsigned k = 0; k < scene->mNumMeshes; ++k) faces += scene->mMeshes[k]->mNumFaces;
+  if (faces > kMaxTriangles)
+    throw MeshError(fmt::format("{} triangles; expected at most {} (simplify the mesh: detail finer than the particle "
+                                "spacing does not reach the particles)",
+                                faces, kMaxTriangles));
   for (unsigned k = 0; k < scene->mNumMeshes; ++k) {
     const aiMesh* mesh = scene->mMeshes[k];
     for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
