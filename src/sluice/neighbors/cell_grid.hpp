@@ -175,7 +175,10 @@ class CellGrid {
 
   // The same rows as ranges of cell indices [first, second): the cells adjacent to cell `c`.
   [[nodiscard]] NeighborRanges neighbor_cells(std::uint32_t c) const {
-    const auto [coord, x_lo, x_hi] = place_of(c);
+    // Named copies, not a structured binding: the lambdas below capture them (clang 14 cannot capture a binding).
+    const CellPlace place = place_of(c);
+    const auto& coord = place.coord;
+    const int x_lo = place.x_lo, x_hi = place.x_hi;
     NeighborRanges r;
     const auto add = [&](std::size_t row) {
       r.add(static_cast<std::uint32_t>(row + x_lo), static_cast<std::uint32_t>(row + x_hi + 1));
@@ -252,7 +255,10 @@ class CellGrid {
   };
 
   [[nodiscard]] ForwardRanges forward_ranges(std::uint32_t c) const {
-    const auto [coord, x_lo, x_hi] = place_of(c);
+    // Named copies, not a structured binding: the lambdas below capture them (clang 14 cannot capture a binding).
+    const CellPlace place = place_of(c);
+    const auto& coord = place.coord;
+    const int x_lo = place.x_lo, x_hi = place.x_hi;
     const std::size_t own_row = c - static_cast<std::uint32_t>(coord[0]);
     ForwardRanges r;
     r.own_end = cell_start_[own_row + x_hi + 1];
