@@ -2,7 +2,7 @@
 BUILD_DIR ?= build/release
 JOBS ?= $(shell nproc)
 
-.PHONY: all setup configure build build-sluice run test test-all bench asan fuzz clean
+.PHONY: all setup configure build build-sluice run test check test-all bench asan fuzz clean
 
 all: build
 
@@ -25,6 +25,12 @@ run: build-sluice
 
 test: build
 	ctest --preset release -j $(JOBS) --label-exclude long
+
+# The edit-compile-test loop: the unit tests and the smoke tests (every built-in case stepped a few
+# times), built and run alone.
+check: configure
+	@cmake --build --preset release -j $(JOBS) --target tests_unit tests_smoke
+	ctest --preset release -j $(JOBS) --label-regex '^(unit|smoke)$$'
 
 # Longer physics runs (the full default case, soak runs): see README.
 test-all: build
