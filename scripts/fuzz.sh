@@ -47,6 +47,7 @@ for t in case checkpoint frame mesh; do
 done
 
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1}
+export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/fuzz/lsan.supp}
 declare -A dict=([case]=fuzz/case.dict [checkpoint]=fuzz/checkpoint.dict [frame]=fuzz/npz.dict [mesh]=fuzz/mesh.dict)
 failed=()
 for t in $targets; do

@@ -672,3 +672,12 @@ TEST_F(Cli, RunawayOutputsAreRefusedBeforeTheRun) {
                            "o"});
   EXPECT_EQ(r.status, 0) << r.err;
 }
+
+// A case whose particles cannot fit in memory is refused before the set-up allocates them (the tank
+// filled at dx = 0.7 mm: up to 4.3e8 particles, about 171 GB), instead of the out-of-memory killer.
+TEST_F(Cli, ACaseTooLargeForTheMemoryIsRefusedBeforeTheSetUp) {
+  const Result r = sluice({"run", "dam_break", "--set", "water[0].max=[20.0, 10.0]", "--set", "domain.dx=0.0007", "-q"});
+  expect_bad_input(r, {"domain.dx = 0.0007 m makes up to 4.", "particles, which need about 171 GB of memory",
+                       "GB available; expected a larger domain.dx (memory goes as dx^-2)"});
+  expect_only({});
+}
