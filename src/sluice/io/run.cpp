@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <new>
 #include <optional>
@@ -435,17 +436,21 @@ double memory_available() {
 // A case whose particles would not fit in memory is refused before the set-up allocates them (which
 // would end in the out-of-memory killer, or minutes of swapping): each particle takes about 400 bytes
 // in 2D and 500 in 3D while the run steps (measured on the default cases; its fields, the neighbour
-// grid, the step-start state). Every process builds the whole set-up before keeping its share.
-void check_memory(const Case& c) {
-  const double available = memory_available();
-  if (!(available > 0.0)) return;
+// grid, the step-start state). Every process builds the whole set-up before keeping its share, so
+// the least memory of any process decides, for all of them alike (collective).
+void check_memory(const Case& c, const Communicator* comm) {
+  double available = memory_available();
+  if (!(available > 0.0)) available = std::numeric_limits<double>::infinity();
+  if (comm != nullptr) available = comm->reducer().min(available);
+  if (!std::isfinite(available)) return;
   const double particles = particles_at_most(c);
   const double need = particles * (c.dimension == 3 ? 500.0 : 400.0);
   if (need <= available) return;
   throw CaseError(fmt::format(
-      "domain.dx = {} m makes up to {:.3g} particles, which need about {:.3g} GB of memory; this process has {:.3g} "
-      "GB available; expected a larger domain.dx (memory goes as dx^-{})",
-      c.dx, particles, need * 1e-9, available * 1e-9, c.dimension));
+      "domain.dx = {} m makes up to {:.3g} particles, which need about {:.3g} GB of memory; {} {:.3g} GB "
+      "available; expected a larger domain.dx (memory goes as dx^-{})",
+      c.dx, particles, need * 1e-9, comm != nullptr && comm->size() > 1 ? "a process has only" : "this process has",
+      available * 1e-9, c.dimension));
 }
 
 // The bytes of the frames a run plans to write: the .npz holds x, v (Dim components each), rho and p as
@@ -774,7 +779,7 @@ std::string error_text(const std::exception& e) {
 
 RunResult run_case(const Case& requested, const RunOptions& options, std::ostream& log) {
   const auto wall_start = steady::now();
-  if (!options.restart) check_memory(requested);
+  if (!options.restart) check_memory(requested, options.comm);
   Start start = options.restart ? start_from_checkpoint(options)
                                 : Start{std::make_unique<Simulation>(requested, options.threads, options.comm)};
   check_start(*start.sim, options);
