@@ -2,7 +2,7 @@
 BUILD_DIR ?= build/release
 JOBS ?= $(shell nproc)
 
-.PHONY: all setup configure build build-sluice run test check test-all bench asan fuzz clean
+.PHONY: all setup configure build build-sluice run test check test-all bench asan fuzz docs clean
 
 all: build
 
@@ -32,7 +32,7 @@ check: configure
 	@cmake --build --preset release -j $(JOBS) --target tests_unit tests_smoke
 	ctest --preset release -j $(JOBS) --label-regex '^(unit|smoke)$$'
 
-# Longer physics runs (the full default case, soak runs): see README.
+# Longer physics runs (the full default case, soak runs): see docs/hardening.md.
 test-all: build
 	ctest --preset release -j $(JOBS)
 
@@ -49,11 +49,17 @@ asan: setup
 	ctest --preset asan -j $(JOBS) --label-exclude long $(if $(ASAN_LABELS),--label-regex '^($(ASAN_LABELS))$$')
 
 # libFuzzer on the three input parsers (case files, checkpoints, frames), FUZZ_SECONDS each, one after
-# another; see README "Hardening" and scripts/fuzz.sh.
+# another; see docs/hardening.md and scripts/fuzz.sh.
 FUZZ_SECONDS ?= 60
 fuzz: build
 	@bash scripts/setup.sh fuzz
 	FUZZ_SECONDS=$(FUZZ_SECONDS) bash scripts/fuzz.sh
+
+# The documentation site, build/docs/index.html: Sphinx with MyST Markdown, warnings as errors. The case-file
+# reference and the commands' options are generated from the program (`sluice keys --json`, `--help`).
+docs: build-sluice
+	SLUICE_BIN=$(abspath $(BUILD_DIR))/sluice sphinx-build -W --keep-going -b html docs build/docs
+	@echo "docs: build/docs/index.html"
 
 clean:
 	rm -rf build

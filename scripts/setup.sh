@@ -12,6 +12,8 @@ packages=(
   python3 python3-numpy python3-meshio python3-pil
   # Several processes: MPI (Open MPI, with mpirun) and Zoltan's domain decomposition.
   libopenmpi-dev openmpi-bin libtrilinos-zoltan-dev
+  # The documentation site (`make docs`): Sphinx with MyST Markdown.
+  python3-sphinx python3-myst-parser
 )
 # `make fuzz` (scripts/setup.sh fuzz) also needs clang with its libFuzzer and sanitizer runtimes, and
 # LLVM's OpenMP for the solver library built with clang.
