@@ -58,7 +58,7 @@ fuzz: build
 # The documentation site, build/docs/index.html: Sphinx with MyST Markdown, warnings as errors. The case-file
 # reference and the commands' options are generated from the program (`sluice keys --json`, `--help`).
 docs: build-sluice
-	SLUICE_BIN=$(abspath $(BUILD_DIR))/sluice sphinx-build -W --keep-going -b html docs build/docs
+	SLUICE_BIN=$(abspath $(BUILD_DIR))/sluice sphinx-build -W --keep-going -a -b html docs build/docs
 	@echo "docs: build/docs/index.html"
 
 clean:
