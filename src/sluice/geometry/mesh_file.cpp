@@ -105,7 +105,13 @@ TriangleMesh read_mesh(std::string_view bytes, const std::string& name) {
   if (bytes.empty()) throw MeshError("the file is empty; expected a closed triangle mesh");
   check_file_size(bytes.size());
   if (ext == "stl") check_binary_stl_size(bytes);
-  Assimp::Importer importer;
+  // One importer per thread, kept: making one sets up every format assimp knows, which costs more than
+  // reading a small mesh. The scene it holds is freed when this function returns.
+  thread_local Assimp::Importer importer;
+  struct FreeScene {
+    Assimp::Importer& importer;
+    ~FreeScene() { importer.FreeScene(); }
+  } free_scene{importer};
   // Vertex transforms of the file's node tree are applied, polygons split into triangles; points and
   // lines are kept (and refused below).
   const aiScene* scene = importer.ReadFileFromMemory(
