@@ -262,7 +262,7 @@ TEST(AnalysisCommands, BadInputIsAClearError) {
       {"validate --case spheric2 --set 'physics.gravity=[0, -9.81]'", "2 components in a 3D case"},
       // A case changed away from its experiment is refused before it runs (it used to run first).
       {"validate --case spheric2 --set 'water[0].max=[3.22, 1.0, 0.5]'", "the SPHERIC test 2 data are for a 3D tank"},
-      {"validate --case buchner --set tank.width=3", "the Buchner data are for a column 2H wide"},
+      {"validate --case buchner --set tank.width=3.5", "the Buchner data are for a column 2H wide"},
       {"validate --case martin_moyce --set 'physics.gravity=[0.1, -9.81]'", "assume gravity straight down"},
       // The cases' wall function is refused with dynamic walls: the message says how to switch it off.
       {"validate --case buchner --set physics.wall_boundary=dynamic",
@@ -274,7 +274,7 @@ TEST(AnalysisCommands, BadInputIsAClearError) {
       {"validate --compare 'mdbc:'", "no KEY=VALUE after the label"},
       {"validate --compare 'w: physics.shifting=1' --compare 'w: physics.shifting=2'", "the label 'w' is given twice"},
       {"validate --quick --compare 'w: physics.wall_boundary=adamy'", "expected one of \"dynamic\", \"adami\""},
-      {"validate --case buchner --compare 'w: tank.width=3'", "the Buchner data are for a column 2H wide"},
+      {"validate --case buchner --compare 'w: tank.width=3.5'", "the Buchner data are for a column 2H wide"},
   };
   for (const auto& c : cases) {
     const Outcome o = run_sluice(c.args);
