@@ -152,7 +152,7 @@ def test_a_process_out_of_memory_stops_every_process_with_its_message():
 def test_a_killed_process_ends_the_run_with_an_error():
     d = os.path.join(W, "killed")
     command = ["mpirun", "--oversubscribe", "-np", "2", args.sluice, "run", "-q", "--threads", "1", CASE, "-o", d,
-               "--set", "time.end=1000"]
+               "--set", "time.end=1000", "--set", "output.interval=1.0"]
     p = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV)
     deadline = time.time() + 60
     victims = []
