@@ -118,29 +118,33 @@ def describe(description: str) -> str:
     return "".join(p if p.startswith("`") and p.endswith("`") and len(p) > 1 else md_escape(p) for p in parts)
 
 
-# Descriptions in the parameter table point to "README" sections for the measurements behind a choice;
-# those sections are pages of this site now. Each such key's pointer becomes a link to the page. A key
-# that mentions the README and is not listed here stops the build (its pointer would lead nowhere).
-README_POINTERS = {
-    "domain.pair_precision": ("Speed: single-precision pairs", "speed.md#single-precision-pairs"),
-    "physics.density_diffusion_gradient": ("Physics: density diffusion", "physics.md#density-diffusion"),
-    "physics.hydrostatic_squeeze": ("Physics: the initial state", "physics.md#the-initial-state"),
-    "physics.wall_slip": ("Physics: walls", "physics.md#walls"),
-    "physics.wall_friction": ("Physics: wall friction", "physics.md#wall-friction"),
-    "physics.wall_tension": ("Physics: walls", "physics.md#walls"),
-    "physics.wall_no_penetration": ("Physics: walls", "physics.md#walls"),
-    "time.integrator": ("Physics: time integration", "physics.md#time-integration"),
-}
+# Descriptions in the parameter table point to the page and section of this site that give the
+# measurements behind a choice, as `docs/<page>.md, "<Section>"` (which a reader of `sluice init`'s
+# template can open as it is). Each becomes a link here; a page or section that does not exist, or a
+# pointer to the README (whose sections are pages of this site now), stops the build.
+POINTER = re.compile(r'docs/([a-z0-9/_-]+\.md), "([^"]+)"')
 
 
-def link_readme_pointers(key: str, text: str) -> str:
-    if "README" not in text:
-        return text
-    if key not in README_POINTERS:
-        raise GenerationError(f"{key}'s description points to the README; add the page it means to README_POINTERS "
-                              "in docs/gen_case_reference.py")
-    title, target = README_POINTERS[key]
-    return re.sub(r'README(?: "[^"]*")?', f"[{title}]({target})", text)
+def slug(title: str) -> str:
+    return re.sub(r"[^a-z0-9 -]", "", title.lower()).strip().replace(" ", "-")
+
+
+def link_pointers(key: str, text: str) -> str:
+    if "README" in text:
+        raise GenerationError(f"{key}'s description points to the README; point it to a page of docs/ instead, as "
+                              'docs/<page>.md, "<Section>"')
+
+    def link(m: re.Match) -> str:
+        page, section = m.group(1), m.group(2)
+        path = os.path.join(os.path.dirname(os.path.abspath(__file__)), page)
+        if not os.path.exists(path):
+            raise GenerationError(f"{key}'s description points to docs/{page}, which does not exist")
+        titles = [line.lstrip("#").strip() for line in open(path, encoding="utf-8") if line.startswith("#")]
+        if slug(section) not in [slug(t) for t in titles]:
+            raise GenerationError(f'{key}\'s description points to "{section}" in docs/{page}, which has no such heading')
+        return f"[{titles[0]}: {section}]({page}#{slug(section)})"
+
+    return POINTER.sub(link, text)
 
 
 def label(key: str) -> str:
@@ -152,7 +156,7 @@ def key_block(k: dict, array: bool) -> list[str]:
     name = key.split(".", 1)[1]
     heading = f"`{name}`" if array else f"`{key}`"
     out = [f"({label(key)})=", f"### {heading}", ""]
-    out.append(link_readme_pointers(key, describe(k["description"])))
+    out.append(link_pointers(key, describe(k["description"])))
     out.append("")
     facts = [("type", k["type"])]
     if k.get("unit"):

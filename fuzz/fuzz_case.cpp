@@ -1,5 +1,5 @@
 // libFuzzer target. Case files: TOML text -> a validated Case or CaseError (sluice::parse_case), then the template round trip.
-// See fuzz/targets.hpp for the contract and README "Hardening" for how to run it.
+// See fuzz/targets.hpp for the contract and docs/hardening.md for how to run it.
 #include <cstddef>
 #include <cstdint>
 #include <string>

@@ -1,5 +1,5 @@
 // libFuzzer target. Checkpoints: bytes -> Checkpoint or FormatError (sluice::parse_checkpoint), as given and with the CRC fixed.
-// See fuzz/targets.hpp for the contract and README "Hardening" for how to run it.
+// See fuzz/targets.hpp for the contract and docs/hardening.md for how to run it.
 #include <cstddef>
 #include <cstdint>
 #include <string>

@@ -1,6 +1,6 @@
 // libFuzzer target. Frames: .npz bytes -> Frame or FormatError (sluice::frame_from_npz, used by render and analyze), as given
 // and with the zip CRCs fixed, then the write-back round trip.
-// See fuzz/targets.hpp for the contract and README "Hardening" for how to run it.
+// See fuzz/targets.hpp for the contract and docs/hardening.md for how to run it.
 #include <cstddef>
 #include <cstdint>
 #include <string>

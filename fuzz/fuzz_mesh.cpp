@@ -1,6 +1,6 @@
 // libFuzzer target. Meshes: bytes -> a closed triangle mesh or MeshError (sluice::read_mesh, as STL or
 // OBJ, then check_closed_mesh and the solid's queries). See fuzz/targets.hpp for the contract and
-// README "Hardening" for how to run it.
+// docs/hardening.md for how to run it.
 #include <cstddef>
 #include <cstdint>
 #include <string>

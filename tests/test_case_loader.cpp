@@ -232,7 +232,7 @@ TEST(CaseDefaults, ItemKeysTakeTheirDeclaredDefaults) {
 }
 
 TEST(CaseDefaults, DefaultsMatchTheDocumentedValues) {
-  // The values the README and the template promise: a change here must be a deliberate one.
+  // The values the documentation and the template promise: a change here must be a deliberate one.
   const Case c = parse(minimal_water);
   EXPECT_EQ(c.name, "unnamed");
   EXPECT_EQ(c.dx, 0.2);
@@ -790,7 +790,7 @@ TEST(CaseBuiltins, DamBreakIsBuiltIn) {
   EXPECT_FALSE(load_builtin_case("no_such_case").has_value());
 }
 
-// The integrators the built-in cases run (README, "Time integration"): the default case and spheric2
+// The integrators the built-in cases run (docs/physics.md, "Time integration"): the default case and spheric2
 // the leapfrog, one force evaluation per step; the validation cases the predictor-corrector, the
 // default of a case file that does not say.
 TEST(CaseBuiltins, TheDefaultCaseRunsTheLeapfrog) {

@@ -42,11 +42,11 @@ double pressure_near(const Simulation& sim, double x, double y) {
 // amplifies sound waves unless the step is small: it is run at C_CFL = 0.1; the leapfrog at 0.2 like
 // the predictor-corrector), each wall treatment
 // (physics.wall_boundary: dynamic wall particles, Adami et al. 2012, mDBC with free slip; with no slip
-// it moves at 0.021 sqrt(g H), README "Wall treatment"), with and
+// it moves at 0.021 sqrt(g H), docs/physics.md, "Walls"), with and
 // without particle shifting, and with the water squeezed to its hydrostatic density. The pressure on
 // the floor — the bottom layer's pressure carried down to the floor, p + rho g y, averaged — is within
 // 0.5 % of rho0 g H when squeezed; on the lattice start (the default) the pressure gradient is about 2 %
-// too steep (README "Physics": the particles' volumes m / rho do not tile the space they fill) and the
+// too steep (docs/physics.md, "The initial state": the particles' volumes m / rho do not tile the space they fill) and the
 // floor reads 1.3 % high, so the bound there is 2 %. The pressure read at a point 0.2 m above the floor
 // fluctuates by less than 1 % of rho0 g H (RMS about its mean; 2 % with shifting), nothing moves
 // faster than 2 % of sqrt(g H), and nothing leaks.

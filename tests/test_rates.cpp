@@ -37,7 +37,7 @@ double distance(const std::array<double, Dim>& r) {
 }
 
 // Every ordered pair within the support, fluid i for the momentum, all i for continuity, fluid-fluid
-// pairs for density diffusion (as SPEC.md's equations and the README describe them). Fluid-wall pairs
+// pairs for density diffusion (as docs/physics.md describes them). Fluid-wall pairs
 // have the artificial viscosity alpha * wall_alpha_factor, and each side's P/rho^2 at least
 // s.wall_pair_pressure_floor in their pressure term.
 template <int Dim, class Kernel>

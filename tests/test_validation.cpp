@@ -1,7 +1,7 @@
 // `sluice validate --quick`: the three validation cases at the coarse resolution the test suite can
 // afford (column width over dx = 20 for Martin & Moyce and Koshizuka & Oka, column height over dx = 30
 // for Buchner), run by the real binary. The bounds below are the ones that hold at that resolution
-// (measured when they were set, with a margin: README, "Validation"); the full report's targets are
+// (measured when they were set, with a margin: docs/validation.md); the full report's targets are
 // checked by `sluice validate` itself. Also: bad input to analyze, convergence and validate.
 #include <gtest/gtest.h>
 

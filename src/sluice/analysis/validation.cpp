@@ -84,7 +84,7 @@ ValidationBounds full_bounds() {
 
 ValidationBounds quick_bounds() {
   // What holds at the quick resolution (a/dx = L/dx = 20, H/dx = 30), with a margin over the values
-  // measured there (README, "Validation") for the run-to-run scatter of the pressure after impact (a
+  // measured there (docs/validation.md) for the run-to-run scatter of the pressure after impact (a
   // change of time steps changes its details). With the cases' settings since 2026-12-05 (mDBC walls,
   // the wall function, shifting, h = 2 dx) the measured values are 0.173, 0.012, 0.245, 0.227, 0.053
   // and 0.051; the seed's dynamic walls gave 0.137, 0.054, 0.210, 0.422, 0.168 and 0.169, over the

@@ -115,7 +115,7 @@ const std::vector<Param<Case>>& case_params() {
               "domain.pair_precision", Precision::double_, precision_names,
               "Arithmetic of the particle pairs (the forces and density rates): double, or single (twice the "
               "vector lanes, about 1.5-2x faster; positions, velocities, densities and each particle's sums stay "
-              "double; see README \"Speed\" for its effect on the validation numbers)."),
+              "double; see docs/speed.md, \"Single-precision pairs\", for its effect on the validation numbers)."),
       declare("tank.width", &Case::tank_width, "m", 20.0, 1e-3, 1e5, "Inner width of the tank (along x)."),
       only_in_3d(declare("tank.depth", &Case::tank_depth, "m", 10.0, 1e-3, 1e5,
                          "Inner depth of the tank (along y; 3D only).")),
@@ -147,7 +147,7 @@ const std::vector<Param<Case>>& case_params() {
               "The density gradient the density diffusion leaves alone: hydrostatic (rho g / c^2, Fourtakas et al. "
               "2019) or renormalised (each fluid particle's own, a first-order corrected sum over its fluid "
               "neighbours: the full delta-SPH of Antuono et al. 2010 and Marrone et al. 2011; a second pass over the "
-              "pairs). See README \"Density diffusion\"."),
+              "pairs). See docs/physics.md, \"Density diffusion\"."),
       declare("physics.shepard_every", &Case::shepard_every, "steps", 20, 0.0, 1e9,
               "Re-initialise the fluid density with a Shepard filter every this many steps (0 = off)."),
       declare("physics.initial_pressure", &Case::initial_pressure, "Pa", 0.0, -1e9, 1e9,
@@ -158,7 +158,7 @@ const std::vector<Param<Case>>& case_params() {
       declare("physics.hydrostatic_squeeze", &Case::hydrostatic_squeeze, "", false, unbounded_lower, unbounded_upper,
               "With hydrostatic_start: also squeeze each column of water onto its bottom to the spacing of its "
               "density, so that m / rho is each particle's volume and still water's pressure gradient is rho g "
-              "instead of about 2 % steeper (see README \"Physics\"); it stirs the water beside the side walls."),
+              "instead of about 2 % steeper (see docs/physics.md, \"The initial state\"); it stirs the water beside the side walls."),
       declare_choice<&Case::wall_boundary>(
               "physics.wall_boundary", WallBoundary::dynamic, wall_boundary_names,
               "Wall treatment: dynamic (wall particles' density evolves by the continuity equation like the fluid's) "
@@ -170,22 +170,22 @@ const std::vector<Param<Case>>& case_params() {
               "physics.wall_slip", WallSlip::free_slip, wall_slip_names,
               "For mdbc walls: free_slip (the wall particles take the tangential part of the water's velocity at their "
               "mirror image and minus its normal part) or no_slip (minus all of it, so the velocity vanishes at the "
-              "surface; with the artificial viscosity this is a strong wall friction: see README)."),
+              "surface; with the artificial viscosity this is a strong wall friction: see docs/physics.md, \"Walls\")."),
       declare_choice<&Case::wall_friction>(
               "physics.wall_friction", WallFriction::none, wall_friction_names,
               "Wall friction for walls that have none of their own (mdbc with free_slip, adami): none, or log_law "
               "(the shear stress of the law of the wall for a smooth wall, from each water particle's speed along "
               "the wall and its distance to it, with fluid.viscosity; spread over the first 2h of water: see "
-              "README \"Wall friction\")."),
+              "docs/physics.md, \"Wall friction\")."),
       declare("physics.wall_tension", &Case::wall_tension, "", true, unbounded_lower, unbounded_upper,
               "Whether a wall holds the water beside it in tension: true, the pressure force between a water and a "
               "wall particle takes both pressures as they are; false, a negative pressure counts as 0 there, so a "
-              "wall never pulls water towards itself (lets mdbc walls run the beach and obstacle cases: see README)."),
+              "wall never pulls water towards itself (lets mdbc walls run the beach and obstacle cases: see docs/physics.md, \"Walls\")."),
       declare("physics.wall_no_penetration", &Case::wall_no_penetration, "", true, unbounded_lower, unbounded_upper,
               "Whether water closer than dx/4 to a wall surface loses its velocity into the wall before each move: "
               "stopped at the surface, reflected a quarter spacing inside, untouched from dx/4 out (water at rest "
               "sits at dx/2). Keeps fast water, and shifted water, out of every kind of wall; false lets the walls' "
-              "pressure alone hold the water (what leaks in is put back and counted): see README."),
+              "pressure alone hold the water (what leaks in is put back and counted): see docs/physics.md, \"Walls\"."),
       declare("physics.shifting", &Case::shifting, "", 0.0, 0.0, 10.0,
               "Particle shifting coefficient A (0 = off): each step moves every fluid particle by "
               "-A h |v| dt grad C (Lind et al. 2012, Skillen et al. 2013, with the anti-clumping weight of Sun et al. "
@@ -198,7 +198,7 @@ const std::vector<Param<Case>>& case_params() {
               "time.integrator", Integrator::predictor_corrector, integrator_names,
               "Time integrator: predictor-corrector (midpoint, two force evaluations per step), forward Euler "
               "(one) or leapfrog (kick-drift-kick velocity Verlet, one: the rates of a step's end carry into the "
-              "next step; see README \"Time integration\")."),
+              "next step; see docs/physics.md, \"Time integration\")."),
       declare("time.cfl", &Case::cfl, "", 0.2, 0.1, 0.3,
               "Courant number C_CFL: dt = C_CFL * min(h/|v_ij|max, sqrt(h/|a|max), h/c_max). Forward Euler amplifies "
               "sound waves: use 0.1 with it (the predictor-corrector and the leapfrog are stable at 0.2)."),

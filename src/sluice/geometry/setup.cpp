@@ -189,7 +189,7 @@ std::vector<std::array<long, Dim - 1>> ring(long off) {
 // at the spacing of water at rest (rho0), while the hydrostatic start gives it the density of the
 // depth; left so, the particles' volumes m / rho do not tile the space they fill, and the discrete
 // momentum equation balances gravity with a pressure gradient too steep by about 3 p / (rho0 c0^2)
-// (2 % in 1 m of water at c0 = 30 m/s; measured, README "Physics"). Squeezed, each contiguous run of
+// (2 % in 1 m of water at c0 = 30 m/s; measured: docs/physics.md, "The initial state"). Squeezed, each contiguous run of
 // fluid in a lattice column is moved down onto its lowest point: a particle whose mass coordinate (depth on the lattice) is mu
 // moves to the depth D(mu) = int_0^mu rho0 / rho(rho0 g s) ds below the run's compressed top, the
 // closed form of the Tait equation. The mass is kept and the bottom stays where it was; the top comes

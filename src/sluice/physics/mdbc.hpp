@@ -19,7 +19,7 @@
 //
 // The wall velocity enters the viscous terms only (the continuity equation sees the walls at rest;
 // with the mirrored velocity there too, the ghost-fluid way, the obstacle case ran to its end but still
-// water settled 0.5 % denser at the floor — README "Wall treatment"). From the Shepard average
+// water settled 0.5 % denser at the floor — docs/physics.md, "Walls"). From the Shepard average
 // v_g of the fluid velocity at the ghost: no slip, v_w = -v_g (the velocity vanishes at the surface,
 // halfway between ghost and wall particle); free slip, v_w = v_g - 2 (v_g . n) n (the tangential
 // velocity carries over, the normal one is mirrored), n the unit normal along x_g - x_w.

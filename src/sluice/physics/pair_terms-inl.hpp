@@ -1,4 +1,4 @@
-// The WCSPH equations as small functions of a particle pair (i, j). Notation follows SPEC.md:
+// The WCSPH equations as small functions of a particle pair (i, j). Notation follows docs/physics.md:
 // r_ij = x_i - x_j, r = |r_ij|, e_ij = r_ij / r, v_ij = v_i - v_j, dW = dW/dr(r) (negative), m = m_j.
 // They take the kernel's gradient factor F = dW/dr / r (so grad_i W_ij = F r_ij; see kernel.hpp,
 // gradient_factor), which removes the 1/r of every term: the momentum terms return factors of r_ij
@@ -19,7 +19,7 @@ T pressure(C m, T p_over_rho2_i, T p_over_rho2_j, T F) {
   return -m * (p_over_rho2_i + p_over_rho2_j) * F;
 }
 
-// Momentum, viscous part (SPEC.md form): a_i += mu m (1/rho_i^2 + 1/rho_j^2) dW v_ij / r.
+// Momentum, viscous part (docs/physics.md, "Momentum"): a_i += mu m (1/rho_i^2 + 1/rho_j^2) dW v_ij / r.
 // Returns the factor of v_ij.
 template <class T, class C>
 T laminar_viscosity(C mu, C m, T inv_rho2_i, T inv_rho2_j, T F) {

@@ -2,7 +2,7 @@
 // own (mDBC with free slip, Adami walls). SPH at engineering resolutions does not resolve the boundary
 // layer: the first water sits dx/2 off the wall, far outside the viscous sublayer, so no-slip walls
 // with a viscosity (artificial, or water's) give a friction set by the particle spacing and the
-// artificial viscosity, not by water (README "Wall friction"). A wall function gives the friction the
+// artificial viscosity, not by water (docs/physics.md, "Wall friction"). A wall function gives the friction the
 // water would feel at that distance instead, as finite-volume codes do on coarse meshes.
 //
 // Each fluid particle i within the kernel support 2h of a wall surface, at distance y from it with
