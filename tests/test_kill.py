@@ -147,9 +147,9 @@ def test_kill_right_after_a_checkpoint():
 
 
 # A case with no checkpoints by simulated time: only the ones a run writes by the wall clock
-# (output.checkpoint_wall_interval, here 0.3 s) and at its end. The run takes several seconds.
+# (output.checkpoint_wall_interval, here 0.3 s) and at its end. The run takes about 2 s (release build).
 WALL_CASE = write_case(os.path.join(W, "wall_case.toml"), end=1.5, interval=0.02)
-WALL_SET = ("--set", "output.checkpoint_wall_interval=0.3", "--set", "domain.dx=0.08")
+WALL_SET = ("--set", "output.checkpoint_wall_interval=0.3", "--set", "domain.dx=0.12")
 
 
 def test_a_killed_run_restarts_from_its_wall_clock_checkpoint():
