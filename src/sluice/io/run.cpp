@@ -350,6 +350,12 @@ void check_start(const Simulation& sim, const RunOptions& options) {
       describe_offenders(health)));
 }
 
+// The frames a run from its current time to its end writes: one at each output interval, and the last.
+double planned_frames(const Simulation& sim) {
+  const Case& c = sim.config();
+  return std::floor(std::max(0.0, stop_time(c) - sim.time()) / c.output_interval) + 1.0;
+}
+
 // What a run will write, checked before it starts. Steps land on the frame and checkpoint times, so
 // an interval shorter than the longest step the case can take (time.cfl h / c0, or time.dt: the
 // adaptive step never exceeds it, as the sound speed is at least c0) would cut every step to that
@@ -367,8 +373,7 @@ void check_output_plan(const Simulation& sim) {
           "{} = {:.3g} s is shorter than the time step ({}): every step would be cut to {:.3g} s to land on "
           "it; expected {} >= {:.3g} s (a step's length)",
           key, interval, step_is, interval, key, longest_step));
-  const double remaining = std::max(0.0, stop_time(c) - sim.time());
-  const double frames = std::floor(remaining / c.output_interval) + 1.0;
+  const double frames = planned_frames(sim);
   if (frames > static_cast<double>(c.max_frames))
     throw CaseError(fmt::format(
         "the run would write {:.0f} frames (time.end = {} s every output.interval = {} s), more than "
@@ -458,11 +463,9 @@ void check_memory(const Case& c, const Communicator* comm) {
 // its cells (about 90 bytes a particle).
 double planned_frame_bytes(const Simulation& sim) {
   const Case& c = sim.config();
-  const double remaining = std::max(0.0, stop_time(c) - sim.time());
-  const double frames = std::floor(remaining / c.output_interval) + 1.0;
   const double dim = c.dimension;
   const double per_particle = (c.writes("npz") ? 8.0 * (2.0 * dim + 2.0) + 5.0 : 0.0) + (c.writes("vtk") ? 90.0 : 0.0);
-  return frames * per_particle * static_cast<double>(sim.particle_count());
+  return planned_frames(sim) * per_particle * static_cast<double>(sim.particle_count());
 }
 
 // The output directory (existing) has room for the frames planned, or the run does not start.
@@ -470,11 +473,10 @@ void check_room(const std::filesystem::path& dir, double bytes, const Simulation
   std::error_code ec;
   const std::filesystem::space_info space = std::filesystem::space(dir, ec);
   if (ec || space.capacity == 0 || bytes <= static_cast<double>(space.available)) return;  // (/proc: no size)
-  const Case& c = sim.config();
   throw IoError(fmt::format(
       "{}: the run would write about {:.3g} GB of frames ({:.0f} frames of {} particles), and {} has {:.3g} GB "
       "free; expected a longer output.interval, fewer output.formats, or more room",
-      dir.string(), bytes * 1e-9, std::floor(std::max(0.0, stop_time(c) - sim.time()) / c.output_interval) + 1.0,
+      dir.string(), bytes * 1e-9, planned_frames(sim),
       sim.particle_count(), dir.parent_path().string(), static_cast<double>(space.available) * 1e-9));
 }
 
