@@ -48,8 +48,8 @@ asan: setup
 	@cmake --build --preset asan -j $(JOBS) $(if $(ASAN_LABELS),--target $(patsubst %,tests_%,$(subst |, ,$(ASAN_LABELS))))
 	ctest --preset asan -j $(JOBS) --label-exclude long $(if $(ASAN_LABELS),--label-regex '^($(ASAN_LABELS))$$')
 
-# libFuzzer on the three input parsers (case files, checkpoints, frames), FUZZ_SECONDS each, one after
-# another; see docs/hardening.md and scripts/fuzz.sh.
+# libFuzzer on the four input parsers (case files, checkpoints, frames, meshes), FUZZ_SECONDS each, one after
+# another (FUZZ_TARGETS, FUZZ_PRESET: see docs/hardening.md and scripts/fuzz.sh).
 FUZZ_SECONDS ?= 60
 fuzz: build
 	@bash scripts/setup.sh fuzz

@@ -77,15 +77,17 @@ void check_binary_stl_size(std::string_view bytes) {
 
 // An OBJ file's material statements (`mtllib`, `usemtl`) turned into comments: sluice reads geometry
 // only, and assimp 5.2 (Debian 12) crashes with a segmentation fault on some `mtllib` lines read from
-// memory (found by fuzz_mesh; kept in tests/fuzz_regressions/mesh/obj_mtllib_crashes_assimp).
+// memory (found by fuzz_mesh; kept in tests/fuzz_regressions/mesh/obj_mtllib_crashes_assimp and
+// obj_mtllib_after_nul). A line ends where assimp's OBJ reader ends one: at \n, \r, \f or a NUL byte.
 std::string without_materials(std::string_view bytes) {
+  static constexpr std::string_view line_ends("\n\r\f\0", 4);
   std::string text(bytes);
   for (std::size_t line = 0; line < text.size();) {
     std::size_t at = line;
     while (at < text.size() && (text[at] == ' ' || text[at] == '\t')) ++at;
     const std::string_view rest = std::string_view(text).substr(at);
     if (rest.substr(0, 6) == "mtllib" || rest.substr(0, 6) == "usemtl") text[at] = '#';
-    const std::size_t end = text.find('\n', at);
+    const std::size_t end = text.find_first_of(line_ends, at);
     if (end == std::string::npos) break;
     line = end + 1;
   }
