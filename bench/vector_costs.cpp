@@ -86,7 +86,7 @@ struct PackTable {
 // packed onto the ends of four staging arrays by one permutation; each time they hold a whole
 // vector, it is loaded (as the evaluation would) and the rest moved to the front. (Not Highway's
 // Compress: in Highway 1.0.3 compiled by GCC 12 it copies its 2 KiB table onto the stack at every
-// call, 21 ns a call on the Zen 5 measured.)
+// call, 21 ns a call measured on an AMD EPYC.)
 double compress_stores(long passes) {
   static const PackTable pack;
   const D d;

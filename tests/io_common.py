@@ -24,6 +24,11 @@ name = "io_test"
 description = "coarse dam break for the output tests"
 [domain]
 dx = 0.4
+h_over_dx = 1.3
+[physics]
+# The default case's walls: still wall particles, whose frames' velocity is 0.
+wall_boundary = "dynamic"
+shifting = 0.0
 [tank]
 width = 20.0
 height = 10.0

@@ -1,4 +1,6 @@
-// Small cases for the physics tests, written as case files so they read like what a user writes.
+// Small cases for the physics tests, written as case files so they read like what a user writes. They
+// state their walls (dynamic, h = 1.3 dx, no shifting): the tests' bounds were measured with them, and
+// a test that wants other walls says so with overrides.
 #pragma once
 
 #include <string>
@@ -14,11 +16,16 @@ inline Case hydrostatic_tank(double width, double depth, double dx, const std::s
 name = "hydrostatic"
 [domain]
 dx = )" + std::to_string(dx) + R"(
+h_over_dx = 1.3
 [tank]
 width = )" + std::to_string(width) + R"(
 height = )" + std::to_string(1.2 * depth) + R"(
 [fluid]
 sound_speed = 30.0
+[physics]
+wall_boundary = "dynamic"
+wall_friction = "none"
+shifting = 0.0
 [time]
 integrator = ")" + integrator + R"("
 cfl = )" + std::to_string(cfl) + R"(
@@ -39,12 +46,16 @@ inline Case spill_over_wall(double dx, bool lid, double end) {
 name = "spill"
 [domain]
 dx = )" + std::to_string(dx) + R"(
+h_over_dx = 1.3
 [tank]
 width = 0.4
 height = 0.15
 lid = )" + (lid ? "true" : "false") + R"(
 [physics]
 gravity = [9.81, -9.81]
+wall_boundary = "dynamic"
+wall_friction = "none"
+shifting = 0.0
 [fluid]
 sound_speed = 30.0
 [time]

@@ -236,7 +236,7 @@ TEST(CaseDefaults, DefaultsMatchTheDocumentedValues) {
   const Case c = parse(minimal_water);
   EXPECT_EQ(c.name, "unnamed");
   EXPECT_EQ(c.dx, 0.2);
-  EXPECT_EQ(c.h_over_dx, 1.3);
+  EXPECT_EQ(c.h_over_dx, 2.0);
   EXPECT_EQ(c.kernel, KernelType::cubic_spline);
   EXPECT_EQ(c.tank_width, 20.0);
   EXPECT_EQ(c.tank_height, 10.0);
@@ -247,9 +247,25 @@ TEST(CaseDefaults, DefaultsMatchTheDocumentedValues) {
   EXPECT_EQ(c.density_diffusion, 0.1);
   EXPECT_EQ(c.shepard_every, 20);
   EXPECT_EQ(c.integrator, Integrator::predictor_corrector);
-  EXPECT_EQ(c.wall_boundary, WallBoundary::dynamic);
+  // The walls validation chose for wall pressures (docs/validation.md, "Defaults").
+  EXPECT_EQ(c.wall_boundary, WallBoundary::mdbc);
+  EXPECT_EQ(c.wall_slip, WallSlip::free_slip);
+  EXPECT_EQ(c.wall_friction, WallFriction::automatic);
+  EXPECT_EQ(wall_friction_in_effect(c), WallFriction::log_law);
+  EXPECT_EQ(c.shifting, 2.0);
   EXPECT_EQ(c.output_formats, (std::vector<std::string>{"vtk", "npz"}));
   EXPECT_EQ(c.water[0].shape, Shape::box);
+}
+
+TEST(CaseDefaults, ThreeDimensionalDefaultsAreTheValidatedOnes) {
+  // In 3D, what SPHERIC test 2 was validated with: mdbc walls at h = 1.3 dx, without shifting or the
+  // wall function (h = 2 dx would cost 3.6 times the pairs).
+  const Case c = parse("[domain]\ndimension = 3\n[[water]]\nmin = [0.0, 0.0, 0.0]\nmax = [1.0, 1.0, 1.0]\n");
+  EXPECT_EQ(c.h_over_dx, 1.3);
+  EXPECT_EQ(c.wall_boundary, WallBoundary::mdbc);
+  EXPECT_EQ(wall_friction_in_effect(c), WallFriction::none);
+  EXPECT_EQ(c.shifting, 0.0);
+  EXPECT_EQ(c.gravity, (Vec3{0.0, 0.0, -9.81}));
 }
 
 TEST(CaseDefaults, DeclarationsAreConsistent) {
@@ -766,7 +782,7 @@ TEST(CaseValidation, TankAndResolution) {
 // The wall function adds friction to walls that have none of their own, and needs water's viscosity.
 TEST(CaseValidation, WallFrictionNeedsFrictionlessWallsAndAViscosity) {
   const std::string log_law = "[physics]\nwall_friction = \"log_law\"\n";
-  expect_contains(parse_error(log_law + minimal_water),
+  expect_contains(parse_error(log_law + "wall_boundary = \"dynamic\"\n" + minimal_water),
                   {"physics.wall_friction = \"log_law\" with physics.wall_boundary = \"dynamic\"",
                    "hold moving water about 1.5 dx off the wall", "expected physics.wall_boundary = \"mdbc\""});
   expect_contains(parse_error(log_law + "wall_boundary = \"mdbc\"\nwall_slip = \"no_slip\"\n" + minimal_water),
@@ -775,7 +791,14 @@ TEST(CaseValidation, WallFrictionNeedsFrictionlessWallsAndAViscosity) {
                   {"fluid.viscosity is 0", "water: 0.001 Pa s"});
   EXPECT_EQ(parse(log_law + "wall_boundary = \"mdbc\"\n" + minimal_water).wall_friction, WallFriction::log_law);
   EXPECT_EQ(parse(log_law + "wall_boundary = \"adami\"\n" + minimal_water).wall_friction, WallFriction::log_law);
-  EXPECT_EQ(parse(minimal_water).wall_friction, WallFriction::none);
+  // "auto", the default: the wall function on mdbc free-slip walls in 2D, none on walls it does not suit
+  // (and a case that chooses those walls is not refused for the default).
+  EXPECT_EQ(parse(minimal_water).wall_friction, WallFriction::automatic);
+  EXPECT_EQ(wall_friction_in_effect(parse(minimal_water)), WallFriction::log_law);
+  for (const std::string walls : {"wall_boundary = \"dynamic\"\n", "wall_boundary = \"adami\"\n",
+                                  "wall_slip = \"no_slip\"\n", "[fluid]\nviscosity = 0.0\n"})
+    EXPECT_EQ(wall_friction_in_effect(parse("[physics]\n" + walls + minimal_water)), WallFriction::none) << walls;
+  EXPECT_EQ(wall_friction_in_effect(parse("[physics]\nwall_friction = \"none\"\n" + minimal_water)), WallFriction::none);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -551,6 +551,18 @@ TEST_F(Cli, InitThenRunUnchanged) {
   EXPECT_EQ(read_file(work_ / "x.toml"), text);
 }
 
+// A user's new case gets the walls validation chose for wall pressures (docs/validation.md,
+// "Defaults"); the built-in dam break keeps dynamic walls by saying so in its own file.
+TEST_F(Cli, InitWritesTheValidatedSettings) {
+  ASSERT_EQ(sluice({"init", "new.toml"}).status, 0);
+  expect_contains(read_file(work_ / "new.toml"),
+                  {"name = \"water_column\"", "h_over_dx = 2.0", "wall_boundary = \"mdbc\"", "wall_slip = \"free_slip\"",
+                   "wall_friction = \"auto\"", "shifting = 2.0"});
+  ASSERT_EQ(sluice({"init", "dam.toml", "--from", "dam_break"}).status, 0);
+  expect_contains(read_file(work_ / "dam.toml"),
+                  {"h_over_dx = 1.3", "wall_boundary = \"dynamic\"", "wall_friction = \"none\"", "shifting = 0.0"});
+}
+
 TEST_F(Cli, InitDefaultFileName) {
   const Result r = sluice({"init"});
   ASSERT_EQ(r.status, 0) << r.err;

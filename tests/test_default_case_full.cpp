@@ -1,4 +1,4 @@
-// The full default case (dx = 0.2 m, 30 s) with the seed's invariants. Labelled "long".
+// The full default case (dx = 0.2 m, 30 s) with its invariants (mass exact, no leaks, energy bounded). Labelled "long".
 #include <gtest/gtest.h>
 
 #include <chrono>

@@ -79,8 +79,8 @@ Agreement compare(const Case& c, int steps) {
 Case collapse(const std::vector<std::string>& sets) {
   Case c = *load_builtin_case("martin_moyce");
   apply_override(c, "domain.dx=0.004");
-  // The seed's walls and kernel width (the built-in case runs mDBC with the wall function, shifting and
-  // h = 2 dx since 2026-12-05): each variant adds what it tests.
+  // Dynamic walls at h = 1.3 dx (the built-in case runs mDBC with the wall function, shifting and
+  // h = 2 dx): each variant adds what it tests.
   for (const char* set : {"physics.wall_friction=none", "physics.wall_boundary=dynamic", "physics.shifting=0",
                           "domain.h_over_dx=1.3"})
     apply_override(c, set);

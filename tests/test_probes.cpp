@@ -34,12 +34,16 @@ Case still_water_with_probes() {
 name = "still_water_probes"
 [domain]
 dx = {dx}
+h_over_dx = 1.3            # the distances below are in h = 1.3 dx
 [tank]
 width = 1.0
 height = 1.2
 [fluid]
 density = {rho0}
 sound_speed = 30.0
+[physics]
+wall_boundary = "dynamic"  # whose particles the pressure probe leaves out (mdbc walls' it reads)
+shifting = 0.0
 [time]
 end = {end}
 [output]

@@ -84,7 +84,7 @@ TEST(QuickValidation, AgreesWithExperimentsAtCoarseResolution) {
   EXPECT_EQ(exit_status, 0) << read_text(dir / "stdout.txt") << read_text(dir / "stderr.txt");
 
   // The report: one page with the four plots (two for Martin & Moyce, Koshizuka & Oka, Buchner), and
-  // the seed's dynamic walls in a column beside the cases' own settings (their curves dashed).
+  // dynamic walls at h = 1.3 dx in a column beside the cases' own settings (their curves dashed).
   const std::string html = read_text(dir / "out" / "report.html");
   ASSERT_FALSE(html.empty());
   std::size_t figures = 0;
@@ -125,12 +125,12 @@ TEST(QuickValidation, AgreesWithExperimentsAtCoarseResolution) {
   // Koshizuka & Oka, all points (T <= 3.1), L/dx = 20.
   EXPECT_LE(c.at("koshizuka_oka.front_rms"), 0.30);
   // Martin & Moyce residual column height, all points: mDBC walls without the dynamic walls' gap hold
-  // the column's last water at the back wall (0.012; 0.054 with the seed's walls).
+  // the column's last water at the back wall (0.012; 0.054 with dynamic walls).
   EXPECT_LE(c.at("martin_moyce.height_rms"), 0.03);
 
   // Buchner wall pressure, H/dx = 30: the whole window 2 <= t* <= 7 (impact spikes and the late-time
   // scatter included), the quasi-steady plateau 3.5 <= t* <= 5.5, and the impact time (t* at which p*
-  // first reaches 0.25). Measured 0.227, 0.053 and 0.051 with the cases' settings; the seed's walls
+  // first reaches 0.25). Measured 0.227, 0.053 and 0.051 with the cases' settings; dynamic walls
   // (the dynamic column) 0.422, 0.168 and 0.169, over these bounds.
   EXPECT_LE(c.at("buchner.pressure_rms"), 0.35);
   EXPECT_LE(c.at("buchner.plateau_rms"), 0.10);
@@ -142,7 +142,7 @@ TEST(QuickValidation, AgreesWithExperimentsAtCoarseResolution) {
 }
 
 // --compare: the Buchner case run again with Adami walls, reported beside the main run (about 20 s on
-// one core); --no-dynamic leaves out the seed's walls' column. The variant's numbers are its own
+// one core); --no-dynamic leaves out dynamic walls' column. The variant's numbers are its own
 // run's, the checks and the exit status the main run's.
 TEST(QuickValidation, ReportsVariantsBesideTheMainRun) {
   const fs::path dir = fs::temp_directory_path() / fmt::format("sluice_validate_compare_{}", ::getpid());
@@ -260,7 +260,7 @@ TEST(AnalysisCommands, BadInputIsAClearError) {
       {"validate --quick --set physics.wall_boundary=adamy", "expected one of \"dynamic\", \"adami\""},
       {"validate --set domain.no_such_key=1", "domain.no_such_key"},
       {"validate --case spheric2 --set 'physics.gravity=[0, -9.81]'", "2 components in a 3D case"},
-      // A case changed away from its experiment is refused before it runs (it used to run first).
+      // A case changed away from its experiment is refused before it runs, not after.
       {"validate --case spheric2 --set 'water[0].max=[3.22, 1.0, 0.5]'", "the SPHERIC test 2 data are for a 3D tank"},
       {"validate --case buchner --set tank.width=3.5", "the Buchner data are for a column 2H wide"},
       {"validate --case martin_moyce --set 'physics.gravity=[0.1, -9.81]'", "assume gravity straight down"},

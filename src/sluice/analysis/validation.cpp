@@ -61,7 +61,7 @@ ValidationVariant parse_variant(const std::string& text) {
   return v;
 }
 
-ValidationVariant seed_walls_variant() {
+ValidationVariant dynamic_walls_variant() {
   return {"dynamic",
           {"physics.wall_friction=none", "physics.wall_boundary=dynamic", "physics.shifting=0", "domain.h_over_dx=1.3"},
           true};
@@ -77,7 +77,7 @@ void check_variant_labels(const std::vector<ValidationVariant>& variants) {
 
 ValidationBounds full_bounds() {
   // The targets of the validation issue: PySPH's WCSPH dam break is at RMS dZ = 0.27 against Martin & Moyce.
-  // The wall-pressure issue's plateau target, 0.06, which the cases' settings meet since 2026-12-05.
+  // The wall-pressure plateau's target, 0.06, which the cases' settings meet.
   return {.mm_front_rms = 0.25, .mm_height_rms = 0.0, .ko_front_rms = 0.0, .buchner_pressure_rms = 0.20,
           .buchner_plateau_rms = 0.06, .buchner_impact = 0.2, .spheric2_impact = 0.02};
 }
@@ -85,10 +85,10 @@ ValidationBounds full_bounds() {
 ValidationBounds quick_bounds() {
   // What holds at the quick resolution (a/dx = L/dx = 20, H/dx = 30), with a margin over the values
   // measured there (docs/validation.md) for the run-to-run scatter of the pressure after impact (a
-  // change of time steps changes its details). With the cases' settings since 2026-12-05 (mDBC walls,
-  // the wall function, shifting, h = 2 dx) the measured values are 0.173, 0.012, 0.245, 0.227, 0.053
-  // and 0.051; the seed's dynamic walls gave 0.137, 0.054, 0.210, 0.422, 0.168 and 0.169, over the
-  // residual height's and Buchner's bounds here.
+  // change of time steps changes its details). With the cases' settings (mDBC walls, the wall
+  // function, shifting, h = 2 dx) the measured values are 0.173, 0.012, 0.245, 0.227, 0.053 and 0.051;
+  // dynamic walls at h = 1.3 dx give 0.137, 0.054, 0.210, 0.422, 0.168 and 0.169, over the residual
+  // height's and Buchner's bounds here.
   return {.mm_front_rms = 0.25, .mm_height_rms = 0.03, .ko_front_rms = 0.30, .buchner_pressure_rms = 0.35,
           .buchner_plateau_rms = 0.10, .buchner_impact = 0.15, .spheric2_impact = 0.15};
 }
@@ -650,7 +650,7 @@ std::string validation_html(const ValidationReport& report, const std::string& c
             plot.series.push_back(std::move(s));
           }
           if (!report.variants.empty())
-            caption += " Dashed: the report's other columns (the seed's dynamic walls unless --no-dynamic, the variants of "
+            caption += " Dashed: the report's other columns (dynamic walls at h = 1.3 dx unless --no-dynamic, the variants of "
                        "--compare), named in the legend.";
           html.figure(svg_plot(plot), caption);
         }
@@ -769,7 +769,7 @@ ValidationReport run_validation(const ValidationOptions& options, std::ostream& 
     return cases;
   };
   const CaseSet cases = prepare(nullptr);
-  // A variant with no case to run (the seed's walls when only the 3D case runs) is left out.
+  // A variant with no case to run (the dynamic walls' column when only the 3D case runs) is left out.
   std::vector<ValidationVariant> variants;
   std::vector<CaseSet> variant_cases;
   for (const auto& v : options.variants) {

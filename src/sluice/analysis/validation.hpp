@@ -120,12 +120,13 @@ inline constexpr double impact_pressure_level = 0.25;
 struct ValidationVariant {
   std::string label;              // names its column and its directory, variants/<label>/
   std::vector<std::string> sets;  // key=value overrides, applied after the main run's
-  bool two_d_only = false;        // runs the 2D cases only (the seed's walls: the seed was 2D)
+  bool two_d_only = false;        // runs the 2D cases only (the dynamic walls' column)
 };
 
-// The column validate adds unless told not to: the seed's dynamic walls with the seed's kernel width
-// and no shifting or wall function, beside the validation cases' own settings, on the 2D cases.
-ValidationVariant seed_walls_variant();
+// The column validate adds unless told not to: dynamic walls at h = 1.3 dx without shifting or the
+// wall function (the default case's formulation), beside the validation cases' own settings, on the
+// 2D cases.
+ValidationVariant dynamic_walls_variant();
 
 // A --compare argument, "LABEL: KEY=VALUE; KEY=VALUE ...", as a variant. Throws AnalysisError naming
 // what is wrong: no label or no override, or a label that is not a plain name (letters, digits, and

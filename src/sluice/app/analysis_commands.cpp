@@ -133,11 +133,12 @@ int validate(const ValidateArgs& a) {
       throw BadInput(e.what());
     }
   }
-  // The seed's dynamic walls beside the cases' own settings, first among the variants (unless a
+  // Dynamic walls beside the cases' own settings, first among the variants (unless a
   // --compare variant has that label: then it is the user's).
-  const auto seed = analysis::seed_walls_variant();
-  if (!a.no_dynamic && std::none_of(o.variants.begin(), o.variants.end(), [&](const auto& v) { return v.label == seed.label; }))
-    o.variants.insert(o.variants.begin(), seed);
+  const auto dynamic = analysis::dynamic_walls_variant();
+  if (!a.no_dynamic &&
+      std::none_of(o.variants.begin(), o.variants.end(), [&](const auto& v) { return v.label == dynamic.label; }))
+    o.variants.insert(o.variants.begin(), dynamic);
   for (const auto& name : o.cases)
     if (std::find(analysis::validation_case_names().begin(), analysis::validation_case_names().end(), name) ==
         analysis::validation_case_names().end())
@@ -224,7 +225,7 @@ Command add_validate_command(CLI::App& app) {
                   "main run's")
       ->allow_extra_args(false);
   cmd->add_flag("--no-dynamic", args->no_dynamic,
-                "Leave out the column of the seed's dynamic walls (h = 1.3 dx, no shifting, no wall function) that "
+                "Leave out the column of dynamic walls (h = 1.3 dx, no shifting, no wall function: the default case's) that "
                 "the 2D cases are otherwise run again with, beside their own settings");
   cmd->add_option("--threads", args->threads, "Threads per run (default: all cores)")->check(CLI::Range(1, 1024));
   cmd->add_flag("-q,--quiet", args->quiet, "No progress lines");

@@ -153,13 +153,15 @@ Command add_cases_command(CLI::App& app) {
 
 Command add_init_command(CLI::App& app) {
   struct InitArgs {
-    std::string path = "case.toml", from = "dam_break";
+    std::string path = "case.toml", from = "water_column";
     bool force = false;
   };
   auto args = std::make_shared<InitArgs>();
   auto* cmd = app.add_subcommand("init", "Write a fully commented case file to edit and run.");
   cmd->add_option("file", args->path, "File to write (default: case.toml)");
-  cmd->add_option("--from", args->from, "Built-in case to start from (default: dam_break)");
+  cmd->add_option("--from", args->from,
+                  "Built-in case to start from (default: water_column, a collapsing column with the default settings, "
+                  "which are the ones validation chose; see `sluice cases`)");
   cmd->add_flag("--force", args->force, "Overwrite the file if it exists");
   return {cmd, [args] {
             const auto c = load_builtin_case(args->from);

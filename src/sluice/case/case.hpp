@@ -26,8 +26,9 @@ enum class WallBoundary { dynamic, adami, mdbc };
 inline constexpr std::array<std::string_view, 3> wall_boundary_names = {"dynamic", "adami", "mdbc"};
 enum class WallSlip { no_slip, free_slip };
 inline constexpr std::array<std::string_view, 2> wall_slip_names = {"no_slip", "free_slip"};
-enum class WallFriction { none, log_law };
-inline constexpr std::array<std::string_view, 2> wall_friction_names = {"none", "log_law"};
+// automatic: the log-law wall function where validation chose it, none elsewhere (wall_friction_in_effect).
+enum class WallFriction { none, log_law, automatic };
+inline constexpr std::array<std::string_view, 3> wall_friction_names = {"none", "log_law", "auto"};
 enum class DiffusionGradient { hydrostatic, renormalised };
 inline constexpr std::array<std::string_view, 2> diffusion_gradient_names = {"hydrostatic", "renormalised"};
 
@@ -115,7 +116,7 @@ struct Case {
   double initial_pressure = 0.0;      // added to the water's initial pressure
   WallBoundary wall_boundary = WallBoundary::dynamic;
   WallSlip wall_slip = WallSlip::free_slip;  // mdbc walls
-  WallFriction wall_friction = WallFriction::none;  // physics/wall_friction.hpp
+  WallFriction wall_friction = WallFriction::none;  // physics/wall_friction.hpp; see wall_friction_in_effect
   bool wall_tension = true;  // negative pressures act between water and wall particles (false: counted as 0)
   bool wall_no_penetration = true;   // water within dx/4 of a wall loses its velocity into it (geometry/leaks.hpp)
   double shifting = 0.0;                // particle shifting coefficient A; 0 = off
@@ -159,6 +160,19 @@ Vec<Dim> first(const Vec3& v) {
   Vec<Dim> out{};
   for (int d = 0; d < Dim; ++d) out[d] = v[d];
   return out;
+}
+
+// The wall friction a case runs. "auto" is the log-law wall function on mdbc walls with free slip in
+// 2D, the combination validation chose for wall pressures (docs/validation.md, "Defaults"), and none
+// on other walls: dynamic and no-slip walls have a friction of their own, adami walls were not
+// validated with it, and neither was 3D; none without a viscosity, which the wall function needs. Resolved when the solver starts, not when the case is read,
+// so that `--set physics.wall_boundary=dynamic` on a case that leaves the friction to "auto" works.
+inline WallFriction wall_friction_in_effect(const Case& c) {
+  if (c.wall_friction != WallFriction::automatic) return c.wall_friction;
+  return c.dimension == 2 && c.wall_boundary == WallBoundary::mdbc && c.wall_slip == WallSlip::free_slip &&
+                 c.viscosity > 0.0
+             ? WallFriction::log_law
+             : WallFriction::none;
 }
 
 }  // namespace sluice

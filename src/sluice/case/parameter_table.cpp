@@ -108,8 +108,11 @@ const std::vector<Param<Case>>& case_params() {
       declare("domain.dimension", &Case::dimension, "", 2, 2.0, 3.0,
               "Space dimensions: 2 (x, y; y up) or 3 (x, y, z; z up). Vectors have this many components."),
       declare("domain.dx", &Case::dx, "m", 0.2, 1e-4, 100.0, "Particle spacing (dx); particle mass is rho0 * dx^2 (dx^3 in 3D)."),
-      declare("domain.h_over_dx", &Case::h_over_dx, "", 1.3, 1.0, 3.0,
-              "Smoothing length in particle spacings: h = h_over_dx * dx. The kernel support is 2h."),
+      with_3d_default(1.3, declare("domain.h_over_dx", &Case::h_over_dx, "", 2.0, 1.0, 3.0,
+                                   "Smoothing length in particle spacings: h = h_over_dx * dx. The kernel support "
+                                   "is 2h. The defaults are what validation chose: 2 in 2D, with mdbc walls and "
+                                   "shifting; 1.3 in 3D, where h = 2 dx costs 3.6 times the pairs (see "
+                                   "docs/validation.md, \"Defaults\").")),
       declare_choice<&Case::kernel>("domain.kernel", KernelType::cubic_spline, kernel_type_names, "Smoothing kernel."),
       declare_choice<&Case::pair_precision>(
               "domain.pair_precision", Precision::double_, precision_names,
@@ -160,23 +163,25 @@ const std::vector<Param<Case>>& case_params() {
               "density, so that m / rho is each particle's volume and still water's pressure gradient is rho g "
               "instead of about 2 % steeper (see docs/physics.md, \"The initial state\"); it stirs the water beside the side walls."),
       declare_choice<&Case::wall_boundary>(
-              "physics.wall_boundary", WallBoundary::dynamic, wall_boundary_names,
+              "physics.wall_boundary", WallBoundary::mdbc, wall_boundary_names,
               "Wall treatment: dynamic (wall particles' density evolves by the continuity equation like the fluid's) "
               "or adami (Adami, Hu & Adams 2012: wall pressure extrapolated from the fluid before each force "
               "evaluation, hydrostatic term included, negative values clamped to 0; free slip: no artificial "
               "viscosity between fluid and wall) or mdbc (English et al. 2022: wall density from a first-order fit to the "
-              "water at each wall particle's mirror image through the wall surface, held at rho0 or above)."),
+              "water at each wall particle's mirror image through the wall surface, held at rho0 or above; the "
+              "default: the best wall pressures validation measured, see docs/validation.md, \"Defaults\")."),
       declare_choice<&Case::wall_slip>(
               "physics.wall_slip", WallSlip::free_slip, wall_slip_names,
               "For mdbc walls: free_slip (the wall particles take the tangential part of the water's velocity at their "
               "mirror image and minus its normal part) or no_slip (minus all of it, so the velocity vanishes at the "
               "surface; with the artificial viscosity this is a strong wall friction: see docs/physics.md, \"Walls\")."),
       declare_choice<&Case::wall_friction>(
-              "physics.wall_friction", WallFriction::none, wall_friction_names,
+              "physics.wall_friction", WallFriction::automatic, wall_friction_names,
               "Wall friction for walls that have none of their own (mdbc with free_slip, adami): none, or log_law "
               "(the shear stress of the law of the wall for a smooth wall, from each water particle's speed along "
               "the wall and its distance to it, with fluid.viscosity; spread over the first 2h of water: see "
-              "docs/physics.md, \"Wall friction\")."),
+              "docs/physics.md, \"Wall friction\"), or auto (the default): log_law on mdbc walls with free slip in "
+              "2D, the combination validation chose, and none on other walls and in 3D."),
       declare("physics.wall_tension", &Case::wall_tension, "", true, unbounded_lower, unbounded_upper,
               "Whether a wall holds the water beside it in tension: true, the pressure force between a water and a "
               "wall particle takes both pressures as they are; false, a negative pressure counts as 0 there, so a "
@@ -186,10 +191,11 @@ const std::vector<Param<Case>>& case_params() {
               "stopped at the surface, reflected a quarter spacing inside, untouched from dx/4 out (water at rest "
               "sits at dx/2). Keeps fast water, and shifted water, out of every kind of wall; false lets the walls' "
               "pressure alone hold the water (what leaks in is put back and counted): see docs/physics.md, \"Walls\"."),
-      declare("physics.shifting", &Case::shifting, "", 0.0, 0.0, 10.0,
+      with_3d_default(0.0, declare("physics.shifting", &Case::shifting, "", 2.0, 0.0, 10.0,
               "Particle shifting coefficient A (0 = off): each step moves every fluid particle by "
               "-A h |v| dt grad C (Lind et al. 2012, Skillen et al. 2013, with the anti-clumping weight of Sun et al. "
-              "2017), along the surface only near a free surface. 2 is DualSPHysics's value."),
+              "2017), along the surface only near a free surface. 2 is DualSPHysics's value and the default in 2D, "
+              "as validated; 0 in 3D.")),
       with_3d_default(2.5, declare("physics.free_surface_threshold", &Case::free_surface_threshold, "", 1.5, 0.5, 3.0,
                                    "For particle shifting: a fluid particle whose position divergence div r (about 2 "
                                    "inside the water in 2D, 3 in 3D) is below this is on the free surface.")),

@@ -155,7 +155,7 @@ void Solver<Dim>::init(const Case& c) {
   // The leak and wall-approach checks skip the water away from the walls (the wall-approach band is
   // dx/4 wide).
   solid_reach_ = SolidReach<Dim>(solids_, lower, upper, 2.0 * h, 0.25 * c.dx);
-  if (c.wall_friction == WallFriction::log_law) {
+  if (wall_friction_in_effect(c) == WallFriction::log_law) {
     friction_ = WallFrictionSettings{c.viscosity / c.rest_density, h, c.dx};
     friction_reach_ = SolidReach<Dim>(solids_, lower, upper, 2.0 * h, 2.0 * h);
   }
@@ -218,7 +218,7 @@ RateSummary Solver<Dim>::evaluate(bool shepard_due, unsigned also_moved, bool la
     terms_.set_rho_gradient(rho_gradient_.gradient(), threads_);
   }
   RateSummary summary = compute_rates(particles_, grid_, kernel_, walls_, settings_, terms_, pair_threads);
-  if (case_.wall_friction == WallFriction::log_law) {
+  if (wall_friction_in_effect(case_) == WallFriction::log_law) {
     const WallFrictionResult friction = add_wall_friction(particles_, solids_, friction_, threads_, &friction_reach_,
                                                           dist ? dist->ghost_mask().data() : nullptr);
     summary.max_acceleration = std::max(summary.max_acceleration, friction.max_acceleration);
