@@ -18,7 +18,7 @@ root_doc = "index"
 highlight_language = "text"
 # Quotes as typed: the reference's allowed values ("dynamic", "adami") are what a case file holds.
 smartquotes = False
-exclude_patterns = ["_build", "_ext", "README.md"]
+exclude_patterns = ["_build", "_ext", "README.md", "generated"]  # generated/: included by the pages
 
 # Links to headings of other pages (`physics.md#walls`), definition lists, and field lists (the case
 # reference's facts about each key).

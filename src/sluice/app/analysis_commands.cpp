@@ -211,7 +211,7 @@ Command add_validate_command(CLI::App& app) {
   cmd->add_flag("--quick", args->quick, "Coarse resolution, as run by the test suite (about a minute)");
   cmd->add_option("-o,--output", args->output, "Output directory (default: out/validation or out/validation_quick)");
   cmd->add_flag("--3d", args->three_d,
-                "Also run the 3D case, spheric2 (SPHERIC test 2 at dx = 0.02 m: about 25 minutes on two cores; with "
+                "Also run the 3D case, spheric2 (SPHERIC test 2 at dx = 0.02 m: about 18 minutes on two cores; with "
                 "--quick dx = 0.05 m, a few minutes)");
   cmd->add_option("--case", args->cases,
                   "Run only this validation case (repeatable): martin_moyce, koshizuka_oka, buchner, spheric2");
