@@ -1,0 +1,162 @@
+// Prescribed motion of a rigid body: a law of time for its translation and one for its rotation about
+// a fixed axis through a point that moves with the translation. Every law gives its value, velocity
+// and acceleration analytically, so the solver never differentiates positions numerically.
+//
+// A point of the body that was at X at the start is at
+//   x(t) = c0 + d(t) + R(theta(t)) (X - c0),
+// with c0 the centre of rotation at the start, d(t) the translation, R the rotation by theta about the
+// axis a (the z axis in 2D). With r = x - c0 - d:
+//   v = d'(t) + theta' a x r,      acc = d''(t) + theta'' a x r + theta'^2 a x (a x r).
+// The laws are scalar functions of time (ScalarLaw): a translation is one of them along a direction,
+// or one per axis; a rotation is one of them as the angle.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <filesystem>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "sluice/core/vec.hpp"
+
+namespace sluice {
+
+// A motion law or motion file that cannot be used; the message names what is wrong and what was expected.
+class MotionError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// A law's value and its first two time derivatives at one time.
+struct LawValue {
+  double value = 0.0, rate = 0.0, acceleration = 0.0;
+};
+
+// A scalar function of time with analytic derivatives.
+class ScalarLaw {
+ public:
+  virtual ~ScalarLaw() = default;
+  [[nodiscard]] virtual LawValue at(double t) const = 0;
+  // Bounds of |value| over [0, end] (used to check at set-up that a body stays in the tank).
+  [[nodiscard]] virtual double largest_magnitude(double end) const;
+};
+
+// What a law does after the interval it is given over.
+enum class AfterInterval { hold, continue_ };
+
+// Constant rate between `start` and `end`, at rest before and after (holding where it got to).
+class LinearLaw final : public ScalarLaw {
+ public:
+  LinearLaw(double rate, double start, double end);
+  [[nodiscard]] LawValue at(double t) const override;
+
+ private:
+  double rate_, start_, end_;
+};
+
+// sum_k c_k (t - start)^k for start <= t <= end; before start c_0, at rest; after end it holds the end
+// value (at rest) or continues at the end's rate.
+class PolynomialLaw final : public ScalarLaw {
+ public:
+  PolynomialLaw(std::vector<double> coefficients, double start, double end, AfterInterval after);
+  [[nodiscard]] LawValue at(double t) const override;
+
+ private:
+  [[nodiscard]] LawValue polynomial(double tau) const;
+  std::vector<double> c_;
+  double start_, end_;
+  AfterInterval after_;
+};
+
+// A sin(2 pi (t - start) / period + phase) - A sin(phase), from `start` on (0 before), times a ramp
+// that grows as (1 - cos(pi s)) / 2, s = (t - start) / (ramp_periods period), from 0 to 1 over the
+// first ramp_periods periods (none with 0). The value starts at 0, and with the ramp so do its rate
+// and acceleration.
+class SinusoidalLaw final : public ScalarLaw {
+ public:
+  SinusoidalLaw(double amplitude, double period, double phase, double start, double ramp_periods);
+  [[nodiscard]] LawValue at(double t) const override;
+  [[nodiscard]] double largest_magnitude(double end) const override;
+
+ private:
+  double amplitude_, period_, phase_, start_, ramp_periods_;
+};
+
+// A recorded series (times increasing) interpolated by a natural cubic spline: the value, rate and
+// acceleration are continuous, so the walls' acceleration (which mDBC and Adami's walls use) is
+// defined everywhere; linear interpolation would make it zero between samples and infinite at them.
+// Before the first time the value is the first sample's, at rest; after the last, the last sample's,
+// at rest ("hold"). A run that would go past the last time is refused at set-up unless the case
+// says to hold.
+class TableLaw final : public ScalarLaw {
+ public:
+  TableLaw(std::vector<double> times, std::vector<double> values);
+  [[nodiscard]] LawValue at(double t) const override;
+  [[nodiscard]] double largest_magnitude(double end) const override;
+  [[nodiscard]] double first_time() const { return t_.front(); }
+  [[nodiscard]] double last_time() const { return t_.back(); }
+
+ private:
+  std::vector<double> t_, y_, m_;  // m: the spline's second derivatives at the samples
+};
+
+// Reads a motion series from a CSV file with a header line: the columns are chosen by name (as the
+// header spells them, e.g. "WM_Position [m]"), the values turned into the body's motion as
+// value * scale, at time time + time_offset. Lines starting with '#' are comments. Throws MotionError
+// naming the file, the line and what was expected: no such file, unreadable, empty, a column missing
+// (listing the header's), a value that is not a finite number, times that do not increase, fewer than
+// two rows.
+struct MotionSeries {
+  std::vector<double> times, values;
+};
+MotionSeries read_motion_csv(const std::filesystem::path& file, const std::string& time_column,
+                             const std::string& value_column, double scale = 1.0, double time_offset = 0.0);
+// The same, from the file's text (`name` names it in messages).
+MotionSeries parse_motion_csv(const std::string& text, const std::string& name, const std::string& time_column,
+                              const std::string& value_column, double scale = 1.0, double time_offset = 0.0);
+
+// A body's prescribed motion: a translation along `direction` by one law, or none; a rotation about
+// `axis` (the z axis in 2D; a unit vector in 3D) through `centre` (at the start; it moves with the
+// translation) by another law, or none. Either may be absent; with both, the rotation's centre
+// translates.
+template <int Dim>
+struct RigidMotion {
+  std::shared_ptr<const ScalarLaw> translation;  // displacement along `direction`
+  Vec<Dim> direction{};                          // unit vector
+  std::shared_ptr<const ScalarLaw> rotation;     // angle in radians, right-handed about `axis`
+  Vec<3> axis{0.0, 0.0, 1.0};                    // unit vector (2D: z)
+  Vec<Dim> centre{};                             // centre of rotation at the start
+};
+
+// A body's pose and its rates at one time.
+template <int Dim>
+struct BodyState {
+  Vec<Dim> displacement{}, velocity{}, acceleration{};  // of the centre of rotation from its start
+  double angle = 0.0, angular_rate = 0.0, angular_acceleration = 0.0;
+  Vec<3> axis{0.0, 0.0, 1.0};
+  Vec<Dim> centre{};  // the centre of rotation at the start
+};
+
+template <int Dim>
+BodyState<Dim> body_state(const RigidMotion<Dim>& motion, double t);
+
+// Where a point of the body that was at `start` is, and its velocity and acceleration.
+template <int Dim>
+struct PointMotion {
+  Vec<Dim> position{}, velocity{}, acceleration{};
+};
+template <int Dim>
+PointMotion<Dim> point_motion(const BodyState<Dim>& state, const Vec<Dim>& start);
+
+// The inverse: the start position of the body point now at `x` (to query a solid's geometry, given
+// at the start, at the body's current pose).
+template <int Dim>
+Vec<Dim> to_start(const BodyState<Dim>& state, const Vec<Dim>& x);
+// A direction (a surface normal) turned with the body from the start to now.
+template <int Dim>
+Vec<Dim> rotate_to_now(const BodyState<Dim>& state, const Vec<Dim>& direction);
+
+}  // namespace sluice

@@ -1,0 +1,207 @@
+// Prescribed motion laws (geometry/motion.hpp): their values, their analytic rates and accelerations
+// against finite differences, the published gate lift, the recorded series' spline and its CSV
+// reader's errors, and the rigid motion of a body's points.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "sluice/geometry/motion.hpp"
+
+namespace sluice {
+namespace {
+
+// The rate and acceleration of `law` at t against central differences of its value and rate.
+void expect_derivatives(const ScalarLaw& law, double t, double scale) {
+  const double h = 1e-6;
+  const LawValue here = law.at(t), before = law.at(t - h), after = law.at(t + h);
+  EXPECT_NEAR(here.rate, (after.value - before.value) / (2 * h), 1e-6 * scale) << "rate at t = " << t;
+  EXPECT_NEAR(here.acceleration, (after.rate - before.rate) / (2 * h), 1e-5 * scale) << "acceleration at t = " << t;
+}
+
+std::string message_of(const std::string& text) {
+  try {
+    (void)parse_motion_csv(text, "wm.csv", "Time [s]", "WM_Position [m]");
+  } catch (const MotionError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "expected a MotionError for:\n" << text;
+  return "";
+}
+
+void expect_contains(const std::string& text, const std::string& part) {
+  EXPECT_NE(text.find(part), std::string::npos) << "message: " << text << "\nlacks: " << part;
+}
+
+// The gate of Sun, Le Touze & Zhang (2019): y(t) = -285.115 t^3 + 72.305 t^2 + 0.1463 t over
+// 0 <= t <= 0.15 s, 0.45 m at 0.1 s and 0.69 m at 0.15 s, then held.
+TEST(MotionLaws, ThePublishedGateLift) {
+  const PolynomialLaw gate({0.0, 0.1463, 72.305, -285.115}, 0.0, 0.15, AfterInterval::hold);
+  EXPECT_NEAR(gate.at(0.1).value, 0.45, 0.005);
+  EXPECT_NEAR(gate.at(0.15).value, 0.69, 0.005);
+  EXPECT_DOUBLE_EQ(gate.at(0.1).value, -285.115e-3 + 72.305e-2 + 0.1463e-1);
+  EXPECT_EQ(gate.at(-1.0).value, 0.0);
+  EXPECT_EQ(gate.at(0.3).value, gate.at(0.15).value);
+  EXPECT_EQ(gate.at(0.3).rate, 0.0);
+  for (double t : {0.01, 0.05, 0.1, 0.14}) expect_derivatives(gate, t, 100.0);
+  const PolynomialLaw going_on({0.0, 0.1463, 72.305, -285.115}, 0.0, 0.15, AfterInterval::continue_);
+  EXPECT_DOUBLE_EQ(going_on.at(0.2).rate, going_on.at(0.15).rate);
+  EXPECT_NEAR(going_on.at(0.2).value, going_on.at(0.15).value + 0.05 * going_on.at(0.15).rate, 1e-12);
+  EXPECT_EQ(going_on.at(0.2).acceleration, 0.0);
+}
+
+TEST(MotionLaws, LinearMovesAtItsRateBetweenItsTimes) {
+  const LinearLaw law(0.2, 1.0, 3.0);
+  EXPECT_EQ(law.at(0.5).value, 0.0);
+  EXPECT_DOUBLE_EQ(law.at(2.0).value, 0.2);
+  EXPECT_EQ(law.at(2.0).rate, 0.2);
+  EXPECT_DOUBLE_EQ(law.at(5.0).value, 0.4);
+  EXPECT_EQ(law.at(5.0).rate, 0.0);
+  EXPECT_THROW(LinearLaw(1.0, 2.0, 2.0), MotionError);
+}
+
+TEST(MotionLaws, SinusoidStartsAtRestUnderItsRampAndDerivativesAreExact) {
+  const double amplitude = 0.1, period = 1.5;
+  const SinusoidalLaw ramped(amplitude, period, 0.3, 0.5, 2.0);
+  const LawValue start = ramped.at(0.5 + 1e-12);
+  EXPECT_NEAR(start.value, 0.0, 1e-12);
+  EXPECT_NEAR(start.rate, 0.0, 1e-9);
+  EXPECT_NEAR(start.acceleration, 0.0, 1e-9);
+  const SinusoidalLaw plain(amplitude, period, 0.3, 0.5, 0.0);
+  for (double t : {0.7, 1.3, 2.9, 3.4}) expect_derivatives(ramped, t, 1.0);
+  for (double t : {0.7, 3.6, 5.0}) expect_derivatives(plain, t, 1.0);
+  // After the ramp (two periods, to t = 3.5), the ramped law is the plain one.
+  for (double t : {3.6, 4.2, 7.7}) {
+    EXPECT_NEAR(ramped.at(t).value, plain.at(t).value, 1e-15);
+    EXPECT_NEAR(ramped.at(t).acceleration, plain.at(t).acceleration, 1e-12);
+  }
+  EXPECT_NEAR(plain.at(0.5 + period).value, 0.0, 1e-15);
+  EXPECT_GE(plain.largest_magnitude(10.0), plain.at(0.5 + 0.25 * period).value);
+}
+
+// A recorded series: the natural cubic spline passes through every sample, its rate and acceleration
+// are continuous across them, and on a dense sampling of a sine it gives the sine's acceleration.
+TEST(MotionLaws, TableSplineIsTwiceDifferentiable) {
+  std::vector<double> t, y;
+  const double omega = 2.0 * std::numbers::pi / 2.0;
+  for (int k = 0; k <= 400; ++k) {
+    t.push_back(0.01 * k);
+    y.push_back(0.05 * std::sin(omega * 0.01 * k));
+  }
+  const TableLaw law(t, y);
+  for (std::size_t k = 0; k < t.size(); ++k) EXPECT_NEAR(law.at(t[k]).value, y[k], 1e-15) << k;
+  for (double at : {1.0, 2.5}) {  // sample times: both sides agree
+    const LawValue left = law.at(at - 1e-10), right = law.at(at + 1e-10);
+    EXPECT_NEAR(left.rate, right.rate, 1e-7);
+    EXPECT_NEAR(left.acceleration, right.acceleration, 1e-6);
+  }
+  for (double at : {0.505, 1.333, 3.07}) {
+    expect_derivatives(law, at, 1.0);
+    EXPECT_NEAR(law.at(at).acceleration, -0.05 * omega * omega * std::sin(omega * at), 0.002 * 0.05 * omega * omega);
+  }
+  EXPECT_EQ(law.at(-1.0).value, y.front());
+  EXPECT_EQ(law.at(9.0).value, y.back());
+  EXPECT_EQ(law.at(9.0).rate, 0.0);
+  EXPECT_THROW(TableLaw({0.0, 1.0, 1.0}, {0.0, 1.0, 2.0}), MotionError);
+}
+
+TEST(MotionCsv, ColumnsByNameWithScaleAndOffset) {
+  const std::string text =
+      "# source: a wave maker's record\n"
+      "Time [s],WM_Position [m],WP_1 [m]\n"
+      "14.98,0.002,9\n"
+      "14.99,0.004,9\n"
+      "\n"
+      "15.00,-0.001,9\r\n";
+  const MotionSeries s = parse_motion_csv(text, "wm.csv", "Time [s]", "WM_Position [m]", 10.0, -14.98);
+  ASSERT_EQ(s.times.size(), 3u);
+  EXPECT_NEAR(s.times[0], 0.0, 1e-12);
+  EXPECT_NEAR(s.times[2], 0.02, 1e-12);
+  EXPECT_DOUBLE_EQ(s.values[1], 0.04);
+  EXPECT_DOUBLE_EQ(s.values[2], -0.01);
+}
+
+TEST(MotionCsv, BadFilesAreNamedWithWhatWasExpected) {
+  expect_contains(message_of(""), "wm.csv: empty; expected a header line");
+  expect_contains(message_of("Time [s],Paddle\n0,1\n"),
+                  "wm.csv: no column \"WM_Position [m]\" in its header (line 1); its columns are \"Time [s]\", \"Paddle\"");
+  expect_contains(message_of("Time [s],WM_Position [m]\n0,0\n0.1,nan\n"),
+                  "wm.csv:3: column \"WM_Position [m]\": 'nan' is not a finite number");
+  expect_contains(message_of("Time [s],WM_Position [m]\n0,0\n0.1,1x\n"), "'1x' is not a finite number");
+  expect_contains(message_of("Time [s],WM_Position [m]\n0,0\n0.2,1\n0.1,2\n"),
+                  "wm.csv:4: the time 0.1 does not increase (the row before has 0.2)");
+  expect_contains(message_of("Time [s],WM_Position [m]\n0,0\n"), "1 row(s) of data; expected at least two");
+  expect_contains(message_of("Time [s],WM_Position [m]\n0\n"), "wm.csv:2: the row has 1 columns, without \"WM_Position [m]\"");
+  const auto missing = std::filesystem::temp_directory_path() / "sluice_no_such_motion.csv";
+  try {
+    (void)read_motion_csv(missing, "t", "x");
+    ADD_FAILURE() << "no error for a missing file";
+  } catch (const MotionError& e) {
+    expect_contains(e.what(), "sluice_no_such_motion.csv: no such file");
+  }
+  try {
+    (void)read_motion_csv(std::filesystem::temp_directory_path(), "t", "x");
+    ADD_FAILURE() << "no error for a directory";
+  } catch (const MotionError& e) {
+    expect_contains(e.what(), "is a directory");
+  }
+}
+
+// A point of a body turning about a centre that itself moves: on the circle about the moving centre,
+// with the velocity and acceleration of rigid motion, which central differences of its positions confirm.
+template <int Dim>
+void check_rigid_motion(const RigidMotion<Dim>& motion, const Vec<Dim>& start) {
+  const double h = 1e-6;
+  for (double t : {0.3, 1.1, 2.4}) {
+    const PointMotion<Dim> now = point_motion<Dim>(body_state(motion, t), start);
+    const PointMotion<Dim> before = point_motion<Dim>(body_state(motion, t - h), start);
+    const PointMotion<Dim> after = point_motion<Dim>(body_state(motion, t + h), start);
+    for (int d = 0; d < Dim; ++d) {
+      EXPECT_NEAR(now.velocity[d], (after.position[d] - before.position[d]) / (2 * h), 1e-6) << "t " << t << " d " << d;
+      EXPECT_NEAR(now.acceleration[d], (after.velocity[d] - before.velocity[d]) / (2 * h), 1e-5) << "t " << t << " d " << d;
+    }
+    // The radius about the centre is kept, and to_start takes the point back.
+    const BodyState<Dim> s = body_state(motion, t);
+    EXPECT_NEAR(norm(now.position - s.centre - s.displacement), norm(start - s.centre), 1e-12);
+    const Vec<Dim> back = to_start<Dim>(s, now.position);
+    for (int d = 0; d < Dim; ++d) EXPECT_NEAR(back[d], start[d], 1e-12);
+  }
+}
+
+TEST(RigidMotion, RotationAboutATranslatingCentre2D) {
+  RigidMotion<2> motion;
+  motion.translation = std::make_shared<SinusoidalLaw>(0.2, 2.0, 0.0, 0.0, 1.0);
+  motion.direction = {1.0, 0.0};
+  motion.rotation = std::make_shared<SinusoidalLaw>(0.1, 1.7, 0.0, 0.0, 0.5);
+  motion.centre = {1.0, 0.5};
+  check_rigid_motion<2>(motion, {1.8, 0.1});
+  // A quarter turn about the centre: (1, 0) from it goes to (0, 1).
+  RigidMotion<2> quarter;
+  quarter.rotation = std::make_shared<LinearLaw>(std::numbers::pi / 2, 0.0, 1.0);
+  quarter.centre = {1.0, 1.0};
+  const PointMotion<2> m = point_motion<2>(body_state(quarter, 1.0), Vec<2>{2.0, 1.0});
+  EXPECT_NEAR(m.position[0], 1.0, 1e-15);
+  EXPECT_NEAR(m.position[1], 2.0, 1e-15);
+  const Vec<2> n = rotate_to_now<2>(body_state(quarter, 1.0), Vec<2>{1.0, 0.0});
+  EXPECT_NEAR(n[0], 0.0, 1e-15);
+  EXPECT_NEAR(n[1], 1.0, 1e-15);
+}
+
+TEST(RigidMotion, RollAboutATiltedAxis3D) {
+  RigidMotion<3> motion;
+  motion.translation = std::make_shared<PolynomialLaw>(std::vector<double>{0.0, 0.1, 0.3}, 0.0, 3.0, AfterInterval::hold);
+  motion.direction = {0.0, 0.6, 0.8};
+  motion.rotation = std::make_shared<SinusoidalLaw>(0.2, 1.3, 0.4, 0.1, 1.0);
+  const double s = 1.0 / std::sqrt(3.0);
+  motion.axis = {s, s, s};
+  motion.centre = {0.5, 0.2, 0.1};
+  check_rigid_motion<3>(motion, {0.9, -0.3, 0.6});
+}
+
+}  // namespace
+}  // namespace sluice
