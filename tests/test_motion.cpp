@@ -11,7 +11,10 @@
 #include <string>
 #include <vector>
 
+#include "sluice/geometry/box.hpp"
 #include "sluice/geometry/motion.hpp"
+#include "sluice/geometry/moving_solid.hpp"
+#include "sluice/geometry/polygon.hpp"
 
 namespace sluice {
 namespace {
@@ -201,6 +204,86 @@ TEST(RigidMotion, RollAboutATiltedAxis3D) {
   motion.axis = {s, s, s};
   motion.centre = {0.5, 0.2, 0.1};
   check_rigid_motion<3>(motion, {0.9, -0.3, 0.6});
+}
+
+// A moving solid answers every query at its current pose: a box lifted like a gate, and a polygon
+// turned about a point, against the same shape built where the motion has taken it.
+TEST(MovingSolid, AGateLiftedIsTheBoxWhereItNowIs) {
+  auto gate = std::make_shared<Box<2>>(Vec<2>{0.2, 0.0}, Vec<2>{0.22, 0.6});
+  MovingSolid<2> moving(gate);
+  EXPECT_TRUE(moving.is_box());
+  RigidMotion<2> lift;
+  lift.translation = std::make_shared<PolynomialLaw>(std::vector<double>{0.0, 0.1463, 72.305, -285.115}, 0.0, 0.15,
+                                                     AfterInterval::hold);
+  lift.direction = {0.0, 1.0};
+  moving.set_state(body_state(lift, 0.1));
+  const double y = lift.translation->at(0.1).value;
+  const Box<2> there({0.2, y}, {0.22, 0.6 + y});
+  EXPECT_TRUE(moving.is_box());
+  EXPECT_NEAR(moving.lower()[1], y, 1e-15);
+  EXPECT_NEAR(moving.upper()[1], 0.6 + y, 1e-15);
+  for (const Vec<2> x : {Vec<2>{0.21, 0.1}, Vec<2>{0.21, 0.3}, Vec<2>{0.25, 0.5}, Vec<2>{0.1, 1.2}, Vec<2>{0.21, 1.05}}) {
+    EXPECT_EQ(moving.contains(x), there.contains(x)) << x[0] << " " << x[1];
+    EXPECT_NEAR(moving.signed_distance(x), there.signed_distance(x), 1e-14);
+    const SurfacePoint<2> a = moving.closest_surface_point(x), b = there.closest_surface_point(x);
+    for (int d = 0; d < 2; ++d) {
+      EXPECT_NEAR(a.point[d], b.point[d], 1e-14);
+      EXPECT_NEAR(a.normal[d], b.normal[d], 1e-14);
+    }
+  }
+  // Its wall particles are the lifted box's.
+  std::vector<Vec<2>> mine, theirs;
+  moving.fill_surface_layers(0.01, 2, [&](const Vec<2>& q) { mine.push_back(q); });
+  there.fill_surface_layers(0.01, 2, [&](const Vec<2>& q) { theirs.push_back(q); });
+  ASSERT_EQ(mine.size(), theirs.size());
+  for (std::size_t k = 0; k < mine.size(); ++k)
+    for (int d = 0; d < 2; ++d) EXPECT_NEAR(mine[k][d], theirs[k][d], 1e-14);
+}
+
+TEST(MovingSolid, ATurnedPolygonIsThePolygonTurned) {
+  const std::vector<Vec2> triangle{{1.0, 0.0}, {2.0, 0.0}, {2.0, 0.5}};
+  MovingSolid<2> moving(std::make_shared<Polygon>(triangle));
+  RigidMotion<2> roll;
+  roll.rotation = std::make_shared<LinearLaw>(0.3, 0.0, 10.0);
+  roll.centre = {1.0, 1.0};
+  const BodyState<2> state = body_state(roll, 2.0);  // 0.6 rad
+  moving.set_state(state);
+  EXPECT_FALSE(moving.is_box());
+  std::vector<Vec2> turned;
+  for (const Vec2& v : triangle) turned.push_back(point_motion<2>(state, v).position);
+  const Polygon there(turned);
+  for (const Vec<2> x : {Vec<2>{1.5, 0.5}, Vec<2>{1.9, 0.9}, Vec<2>{1.2, 0.2}, Vec<2>{2.5, 1.5}, Vec<2>{0.5, -0.5}}) {
+    EXPECT_EQ(moving.contains(x), there.contains(x)) << x[0] << " " << x[1];
+    EXPECT_NEAR(moving.signed_distance(x), there.signed_distance(x), 1e-12);
+    const SurfacePoint<2> a = moving.closest_surface_point(x), b = there.closest_surface_point(x);
+    for (int d = 0; d < 2; ++d) {
+      EXPECT_NEAR(a.point[d], b.point[d], 1e-12);
+      EXPECT_NEAR(a.normal[d], b.normal[d], 1e-12);
+    }
+  }
+  for (int d = 0; d < 2; ++d) {
+    EXPECT_LE(moving.lower()[d], there.lower()[d] + 1e-12);
+    EXPECT_GE(moving.upper()[d], there.upper()[d] - 1e-12);
+  }
+}
+
+TEST(MovingSolid, ABoxRolledIn3DAnswersAtItsPose) {
+  auto box = std::make_shared<Box<3>>(Vec<3>{0.0, 0.0, 0.0}, Vec<3>{1.0, 0.5, 0.2});
+  MovingSolid<3> moving(box);
+  RigidMotion<3> roll;
+  roll.rotation = std::make_shared<LinearLaw>(std::numbers::pi / 2, 0.0, 1.0);
+  roll.axis = {1.0, 0.0, 0.0};
+  roll.centre = {0.0, 0.0, 0.0};
+  moving.set_state(body_state(roll, 1.0));  // a quarter turn about x: y -> z, z -> -y
+  const Box<3> there({0.0, -0.2, 0.0}, {1.0, 0.0, 0.5});
+  for (const Vec<3> x : {Vec<3>{0.5, -0.1, 0.25}, Vec<3>{0.5, 0.1, 0.25}, Vec<3>{0.5, -0.1, 0.6}, Vec<3>{1.2, -0.3, -0.1}}) {
+    EXPECT_EQ(moving.contains(x), there.contains(x)) << x[0] << " " << x[1] << " " << x[2];
+    EXPECT_NEAR(moving.signed_distance(x), there.signed_distance(x), 1e-12);
+  }
+  for (int d = 0; d < 3; ++d) {
+    EXPECT_NEAR(moving.lower()[d], there.lower()[d], 1e-12);
+    EXPECT_NEAR(moving.upper()[d], there.upper()[d], 1e-12);
+  }
 }
 
 }  // namespace
