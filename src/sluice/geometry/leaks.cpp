@@ -115,8 +115,9 @@ template <int Dim>
 }
 
 template <int Dim>
-[[gnu::noinline]] long stop_approach_one(Particles<Dim>& p, const std::vector<Bounded<Dim>>& boxes, double dx,
-                                         double band, const typename Particles<Dim>::template Vector<double>* acceleration,
+[[gnu::noinline]] long stop_approach_one(const std::array<double*, Dim>& velocity, const std::vector<Bounded<Dim>>& boxes,
+                                         double dx, double band,
+                                         const typename Particles<Dim>::template Vector<double>* acceleration,
                                          double tau, long i, const Vec<Dim>& x) {
   long changed = 0;
   for (const Bounded<Dim>& b : boxes) {
@@ -127,11 +128,11 @@ template <int Dim>
     double un = 0.0;
     for (int d = 0; d < Dim; ++d) {
       const double a = acceleration != nullptr ? (*acceleration)[d][i] : 0.0;
-      un += (p.velocity[d][i] + tau * a) * normal[d];
+      un += (velocity[d][i] + tau * a) * normal[d];
     }
     if (!(un < 0.0)) continue;
     const double f = std::clamp(1.0 - distance / band, 0.0, 2.0);
-    for (int d = 0; d < Dim; ++d) p.velocity[d][i] -= f * un * normal[d];
+    for (int d = 0; d < Dim; ++d) velocity[d][i] -= f * un * normal[d];
     changed = 1;
   }
   return changed;
@@ -155,8 +156,22 @@ std::size_t stop_wall_approach(Particles<Dim>& p, const Solids<Dim>& solids, dou
   if (near != nullptr && !(near->reach() >= band))
     throw std::invalid_argument("stop_wall_approach: the SolidReach's reach is below dx/4");
   const std::vector<Bounded<Dim>> boxes = bounded<Dim>(solids, band);
+  std::array<double*, Dim> velocity{};
+  for (int d = 0; d < Dim; ++d) velocity[d] = p.velocity[d].data();
   return count_near_solids<Dim>(p, threads, near, [&](long i, const Vec<Dim>& x) {
-    return stop_approach_one<Dim>(p, boxes, dx, band, acceleration, tau, i, x);
+    return stop_approach_one<Dim>(velocity, boxes, dx, band, acceleration, tau, i, x);
+  });
+}
+
+template <int Dim>
+std::size_t stop_shift_approach(Particles<Dim>& p, const std::array<double*, Dim>& shift_velocity,
+                                const Solids<Dim>& solids, double dx, int threads, const SolidReach<Dim>* near) {
+  const double band = 0.25 * dx;
+  if (near != nullptr && !(near->reach() >= band))
+    throw std::invalid_argument("stop_shift_approach: the SolidReach's reach is below dx/4");
+  const std::vector<Bounded<Dim>> boxes = bounded<Dim>(solids, band);
+  return count_near_solids<Dim>(p, threads, near, [&](long i, const Vec<Dim>& x) {
+    return stop_approach_one<Dim>(shift_velocity, boxes, dx, band, nullptr, 0.0, i, x);
   });
 }
 
@@ -168,5 +183,9 @@ template std::size_t stop_wall_approach<2>(Particles<2>&, const Solids<2>&, doub
                                            const Particles<2>::Vector<double>*, double, int, const SolidReach<2>*);
 template std::size_t stop_wall_approach<3>(Particles<3>&, const Solids<3>&, double,
                                            const Particles<3>::Vector<double>*, double, int, const SolidReach<3>*);
+template std::size_t stop_shift_approach<2>(Particles<2>&, const std::array<double*, 2>&, const Solids<2>&, double, int,
+                                            const SolidReach<2>*);
+template std::size_t stop_shift_approach<3>(Particles<3>&, const std::array<double*, 3>&, const Solids<3>&, double, int,
+                                            const SolidReach<3>*);
 
 }  // namespace sluice

@@ -90,4 +90,12 @@ std::size_t stop_wall_approach(Particles<Dim>& p, const Solids<Dim>& solids, dou
                                const typename Particles<Dim>::template Vector<double>* acceleration, double tau,
                                int threads = 1, const SolidReach<Dim>* near = nullptr);
 
+// The same stop for particle shifting's displacement dt s (physics/shifting.hpp), applied to the shift
+// velocity s before the shift: the shift of a fluid particle closer than dx/4 to a wall surface loses
+// its part into the wall, as the drift velocity's does.
+template <int Dim>
+std::size_t stop_shift_approach(Particles<Dim>& p, const std::array<double*, Dim>& shift_velocity,
+                                const Solids<Dim>& solids, double dx, int threads = 1,
+                                const SolidReach<Dim>* near = nullptr);
+
 }  // namespace sluice

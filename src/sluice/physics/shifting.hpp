@@ -94,6 +94,12 @@ class ParticleShifting {
   [[nodiscard]] const std::vector<double>& concentration_gradient(int d) const { return sums_[d]; }
   // The shift velocity s (after compute(), until the next compute()).
   [[nodiscard]] const std::vector<double>& shift_velocity(int d) const { return sums_[Dim + d]; }
+  // The same, to change before apply() (the wall-approach stop: geometry/leaks.hpp).
+  [[nodiscard]] std::array<double*, Dim> shift_velocity_data() {
+    std::array<double*, Dim> s{};
+    for (int d = 0; d < Dim; ++d) s[d] = sums_[Dim + d].data();
+    return s;
+  }
 
  private:
   // Surface particles (div r below the threshold), then every fluid particle within the support of

@@ -347,7 +347,11 @@ void Solver<Dim>::stop_wall_approach_before_drift(const typename Particles<Dim>:
 template <int Dim>
 void Solver<Dim>::finish_step(const StepSize& size, double time_limit) {
   const double dt = size.dt;
-  if (shifting_.coefficient > 0.0) shift_.apply(particles_, dt, threads_);
+  if (shifting_.coefficient > 0.0) {
+    if (case_.wall_no_penetration)
+      stop_shift_approach<Dim>(particles_, shift_.shift_velocity_data(), solids_, case_.dx, threads_, &solid_reach_);
+    shift_.apply(particles_, dt, threads_);
+  }
   strip_ghosts();
   const auto leaked = static_cast<std::int64_t>(put_back_leaked(particles_, solids_, case_.dx, threads_, &solid_reach_));
   clock_.leaks += leaked;
