@@ -206,6 +206,21 @@ TEST(RigidMotion, RollAboutATiltedAxis3D) {
   check_rigid_motion<3>(motion, {0.9, -0.3, 0.6});
 }
 
+// The moving solid and the shape built where it now is give the same inside test, distance, closest
+// point and normal at each of `points`.
+void expect_same_answers(const Solid<2>& moving, const Solid<2>& there, const std::vector<Vec<2>>& points,
+                         double tolerance) {
+  for (const Vec<2>& x : points) {
+    EXPECT_EQ(moving.contains(x), there.contains(x)) << x[0] << " " << x[1];
+    EXPECT_NEAR(moving.signed_distance(x), there.signed_distance(x), tolerance);
+    const SurfacePoint<2> a = moving.closest_surface_point(x), b = there.closest_surface_point(x);
+    for (int d = 0; d < 2; ++d) {
+      EXPECT_NEAR(a.point[d], b.point[d], tolerance);
+      EXPECT_NEAR(a.normal[d], b.normal[d], tolerance);
+    }
+  }
+}
+
 // A moving solid answers every query at its current pose: a box lifted like a gate, and a polygon
 // turned about a point, against the same shape built where the motion has taken it.
 TEST(MovingSolid, AGateLiftedIsTheBoxWhereItNowIs) {
@@ -222,15 +237,7 @@ TEST(MovingSolid, AGateLiftedIsTheBoxWhereItNowIs) {
   EXPECT_TRUE(moving.is_box());
   EXPECT_NEAR(moving.lower()[1], y, 1e-15);
   EXPECT_NEAR(moving.upper()[1], 0.6 + y, 1e-15);
-  for (const Vec<2> x : {Vec<2>{0.21, 0.1}, Vec<2>{0.21, 0.3}, Vec<2>{0.25, 0.5}, Vec<2>{0.1, 1.2}, Vec<2>{0.21, 1.05}}) {
-    EXPECT_EQ(moving.contains(x), there.contains(x)) << x[0] << " " << x[1];
-    EXPECT_NEAR(moving.signed_distance(x), there.signed_distance(x), 1e-14);
-    const SurfacePoint<2> a = moving.closest_surface_point(x), b = there.closest_surface_point(x);
-    for (int d = 0; d < 2; ++d) {
-      EXPECT_NEAR(a.point[d], b.point[d], 1e-14);
-      EXPECT_NEAR(a.normal[d], b.normal[d], 1e-14);
-    }
-  }
+  expect_same_answers(moving, there, {{0.21, 0.1}, {0.21, 0.3}, {0.25, 0.5}, {0.1, 1.2}, {0.21, 1.05}}, 1e-14);
   // Its wall particles are the lifted box's.
   std::vector<Vec<2>> mine, theirs;
   moving.fill_surface_layers(0.01, 2, [&](const Vec<2>& q) { mine.push_back(q); });
@@ -252,15 +259,7 @@ TEST(MovingSolid, ATurnedPolygonIsThePolygonTurned) {
   std::vector<Vec2> turned;
   for (const Vec2& v : triangle) turned.push_back(point_motion<2>(state, v).position);
   const Polygon there(turned);
-  for (const Vec<2> x : {Vec<2>{1.5, 0.5}, Vec<2>{1.9, 0.9}, Vec<2>{1.2, 0.2}, Vec<2>{2.5, 1.5}, Vec<2>{0.5, -0.5}}) {
-    EXPECT_EQ(moving.contains(x), there.contains(x)) << x[0] << " " << x[1];
-    EXPECT_NEAR(moving.signed_distance(x), there.signed_distance(x), 1e-12);
-    const SurfacePoint<2> a = moving.closest_surface_point(x), b = there.closest_surface_point(x);
-    for (int d = 0; d < 2; ++d) {
-      EXPECT_NEAR(a.point[d], b.point[d], 1e-12);
-      EXPECT_NEAR(a.normal[d], b.normal[d], 1e-12);
-    }
-  }
+  expect_same_answers(moving, there, {{1.5, 0.5}, {1.9, 0.9}, {1.2, 0.2}, {2.5, 1.5}, {0.5, -0.5}}, 1e-12);
   for (int d = 0; d < 2; ++d) {
     EXPECT_LE(moving.lower()[d], there.lower()[d] + 1e-12);
     EXPECT_GE(moving.upper()[d], there.upper()[d] - 1e-12);

@@ -148,31 +148,37 @@ std::size_t put_back_leaked(Particles<Dim>& p, const Solids<Dim>& solids, double
                                 [&](long i, const Vec<Dim>& x) { return put_back_one<Dim>(p, boxes, dx, i, x); });
 }
 
+namespace {
+
+// The dx/4 stop of a velocity-like field (the drift's velocity, the shift's) at the walls.
 template <int Dim>
-std::size_t stop_wall_approach(Particles<Dim>& p, const Solids<Dim>& solids, double dx,
-                               const typename Particles<Dim>::template Vector<double>* acceleration, double tau,
-                               int threads, const SolidReach<Dim>* near) {
+std::size_t stop_approach(Particles<Dim>& p, const std::array<double*, Dim>& velocity, const Solids<Dim>& solids,
+                          double dx, const typename Particles<Dim>::template Vector<double>* acceleration, double tau,
+                          int threads, const SolidReach<Dim>* near) {
   const double band = 0.25 * dx;
   if (near != nullptr && !(near->reach() >= band))
     throw std::invalid_argument("stop_wall_approach: the SolidReach's reach is below dx/4");
   const std::vector<Bounded<Dim>> boxes = bounded<Dim>(solids, band);
-  std::array<double*, Dim> velocity{};
-  for (int d = 0; d < Dim; ++d) velocity[d] = p.velocity[d].data();
   return count_near_solids<Dim>(p, threads, near, [&](long i, const Vec<Dim>& x) {
     return stop_approach_one<Dim>(velocity, boxes, dx, band, acceleration, tau, i, x);
   });
 }
 
+}  // namespace
+
+template <int Dim>
+std::size_t stop_wall_approach(Particles<Dim>& p, const Solids<Dim>& solids, double dx,
+                               const typename Particles<Dim>::template Vector<double>* acceleration, double tau,
+                               int threads, const SolidReach<Dim>* near) {
+  std::array<double*, Dim> velocity{};
+  for (int d = 0; d < Dim; ++d) velocity[d] = p.velocity[d].data();
+  return stop_approach<Dim>(p, velocity, solids, dx, acceleration, tau, threads, near);
+}
+
 template <int Dim>
 std::size_t stop_shift_approach(Particles<Dim>& p, const std::array<double*, Dim>& shift_velocity,
                                 const Solids<Dim>& solids, double dx, int threads, const SolidReach<Dim>* near) {
-  const double band = 0.25 * dx;
-  if (near != nullptr && !(near->reach() >= band))
-    throw std::invalid_argument("stop_shift_approach: the SolidReach's reach is below dx/4");
-  const std::vector<Bounded<Dim>> boxes = bounded<Dim>(solids, band);
-  return count_near_solids<Dim>(p, threads, near, [&](long i, const Vec<Dim>& x) {
-    return stop_approach_one<Dim>(shift_velocity, boxes, dx, band, nullptr, 0.0, i, x);
-  });
+  return stop_approach<Dim>(p, shift_velocity, solids, dx, nullptr, 0.0, threads, near);
 }
 
 template class SolidReach<2>;
