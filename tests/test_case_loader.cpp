@@ -76,6 +76,7 @@ std::string show(const ParamValue& v) {
         else if constexpr (std::is_same_v<T, Vec3>) return fmt::format("[{}, {}, {}]", x[0], x[1], x[2]);
         else if constexpr (std::is_same_v<T, std::vector<std::string>>) return fmt::format("{} strings", x.size());
         else if constexpr (std::is_same_v<T, std::vector<Vec2>>) return fmt::format("{} points", x.size());
+        else if constexpr (std::is_same_v<T, std::vector<double>>) return fmt::format("{} numbers", x.size());
         else return fmt::format("{}", x);
       },
       v);
@@ -447,7 +448,7 @@ TEST(CaseUnknown, KeyInsideArrayItem) {
   expect_contains(parse_error(minimal_water + "[[probe]]\nname = \"p\"\ntype = \"gauge\"\npoint = [1, 1]\nbandd = 1\n"),
                   {"unknown key 'bandd' in [[probe]]", "did you mean 'band'?"});
   expect_contains(parse_error(minimal_water + "[[wall]]\nmin = [0, 0]\nmax = [1, 1]\ncolour = \"red\"\n"),
-                  {"unknown key 'colour' in [[wall]]", "expected one of: shape, min, max"});
+                  {"unknown key 'colour' in [[wall]]", "expected one of: name, shape, min, max"});
 }
 
 TEST(CaseUnknown, SectionsOfTheWrongKind) {
@@ -554,6 +555,10 @@ TEST(CaseOverrides, EveryDeclaredKeyCanBeSetToItsDefault) {
           } else if constexpr (std::is_same_v<T, std::vector<Vec2>>) {
             std::string s;
             for (const auto& q : x) s += fmt::format("{}[{}, {}]", s.empty() ? "" : ", ", q[0], q[1]);
+            return "[" + s + "]";
+          } else if constexpr (std::is_same_v<T, std::vector<double>>) {
+            std::string s;
+            for (const double q : x) s += fmt::format("{}{}", s.empty() ? "" : ", ", q);
             return "[" + s + "]";
           } else if constexpr (std::is_same_v<T, std::monostate>) return "";
           else return fmt::format("{}", x);
@@ -1118,4 +1123,70 @@ TEST(CaseDimension, ThreeDimensionalTemplateRoundTrips) {
   expect_cases_equal(parse_case(t, "3D template"), c);
   // The 2D template leaves the 3D keys out.
   EXPECT_EQ(case_template(parse(minimal_water)).find("depth ="), std::string::npos);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Bodies: a wall's name and its motion's laws ([wall.translation], [wall.rotation]).
+
+TEST(CaseBodies, WallsAreNamedBodiesWithMotionLaws) {
+  const std::string gate = minimal_water + R"([[wall]]
+name = "gate"
+min = [0.2, 0.0]
+max = [0.22, 0.6]
+[wall.translation]
+law = "polynomial"
+direction = [0.0, 2.0]
+coefficients = [0.0, 0.1463, 72.305, -285.115]
+end = 0.15
+[[wall]]
+min = [0.5, 0.0]
+max = [0.6, 0.1]
+[wall.rotation]
+law = "sinusoidal"
+centre = [0.55, 0.0]
+amplitude = 5.0
+period = 2.0
+ramp = 1.0
+)";
+  const Case c = parse(gate);
+  ASSERT_EQ(c.walls.size(), 2u);
+  EXPECT_EQ(c.walls[0].name, "gate");
+  EXPECT_EQ(c.walls[1].name, "wall2");
+  EXPECT_EQ(c.walls[0].translation.law, MotionLawType::polynomial);
+  EXPECT_EQ(c.walls[0].translation.coefficients, (std::vector<double>{0.0, 0.1463, 72.305, -285.115}));
+  EXPECT_EQ(c.walls[0].translation.after, AfterMotion::hold);
+  EXPECT_EQ(c.walls[0].rotation.law, MotionLawType::none);
+  EXPECT_EQ(c.walls[1].rotation.law, MotionLawType::sinusoidal);
+  EXPECT_EQ(c.walls[1].rotation.period, 2.0);
+  EXPECT_TRUE(c.walls[0].moves());
+  // The template writes them back, and reads as the same case.
+  const Case again = parse(case_template(c));
+  EXPECT_EQ(again.walls[1].rotation.amplitude, 5.0);
+  EXPECT_EQ(again.walls[0].translation.coefficients, c.walls[0].translation.coefficients);
+  EXPECT_EQ(again.walls[1].name, "wall2");
+  // --set reaches a law's keys.
+  Case changed = c;
+  apply_override(changed, "wall[1].rotation.period=2.5");
+  EXPECT_EQ(changed.walls[1].rotation.period, 2.5);
+  expect_contains(override_error(changed, "wall[1].rotation.perod=2"), {"unknown key 'perod'", "period"});
+  expect_contains(override_error(changed, "wall[5].rotation.period=2"), {"there is no wall[5]"});
+  // A law's own keys are required, and other laws' refused.
+  expect_contains(parse_error(minimal_water + "[[wall]]\nmin = [0.2, 0.0]\nmax = [0.3, 0.5]\n[wall.translation]\n"
+                                              "law = \"linear\"\ndirection = [1.0, 0.0]\nend = 1.0\n"),
+                  {"has no 'speed'"});
+  expect_contains(parse_error(minimal_water + "[[wall]]\nmin = [0.2, 0.0]\nmax = [0.3, 0.5]\n[wall.translation]\n"
+                                              "law = \"linear\"\ndirection = [1.0, 0.0]\nspeed = 1.0\nend = 1.0\n"
+                                              "period = 2.0\n"),
+                  {"gives 'period', which a linear law does not use"});
+  expect_contains(parse_error(minimal_water + "[[wall]]\nmin = [0.2, 0.0]\nmax = [0.3, 0.5]\n[wall.translation]\n"
+                                              "law = \"linear\"\ndirection = [0.0, 0.0]\nspeed = 1.0\nend = 1.0\n"),
+                  {"wall[0].translation.direction = [0.0, 0.0]", "length 0"});
+  expect_contains(parse_error(minimal_water + "[[wall]]\nname = \"a b\"\nmin = [0.2, 0.0]\nmax = [0.3, 0.5]\n"),
+                  {"wall[0].name = \"a b\"", "letters, digits"});
+  expect_contains(parse_error(minimal_water + "[[wall]]\nname = \"g\"\nmin = [0.2, 0.0]\nmax = [0.3, 0.5]\n"
+                                              "[[wall]]\nname = \"g\"\nmin = [0.5, 0.0]\nmax = [0.6, 0.5]\n"),
+                  {"wall[1].name = \"g\"", "another wall has that name"});
+  // Water does not move.
+  expect_contains(parse_error("[[water]]\nmin = [0.0, 0.0]\nmax = [1.0, 1.0]\n[water.translation]\nlaw = \"linear\"\n"),
+                  {"unknown key 'translation' in [[water]]"});
 }

@@ -11,6 +11,9 @@
 #include <string>
 #include <vector>
 
+#include "sluice/case/load.hpp"
+#include "sluice/case/motions.hpp"
+#include "sluice/case/case_error.hpp"
 #include "sluice/geometry/box.hpp"
 #include "sluice/geometry/motion.hpp"
 #include "sluice/geometry/moving_solid.hpp"
@@ -283,6 +286,88 @@ TEST(MovingSolid, ABoxRolledIn3DAnswersAtItsPose) {
     EXPECT_NEAR(moving.lower()[d], there.lower()[d], 1e-12);
     EXPECT_NEAR(moving.upper()[d], there.upper()[d], 1e-12);
   }
+}
+
+}  // namespace
+}  // namespace sluice
+
+namespace sluice {
+namespace {
+
+// From a case file to a wall's motion: the laws as written (a rotation in degrees), a motion file read
+// beside the case file by column name, and a file that ends before the run refused.
+TEST(WallMotionFromCase, TheLawsAsTheCaseWritesThem) {
+  const auto dir = std::filesystem::temp_directory_path() / "sluice_test_wall_motion";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream csv(dir / "paddle.csv");
+    csv << "# a paddle's record\nTime [s],Pos [mm]\n0,0\n0.5,10\n1.0,0\n1.5,-10\n2.0,0\n";
+  }
+  const std::string walls = R"([[water]]
+min = [0.0, 0.0]
+max = [1.0, 1.0]
+[[wall]]
+name = "gate"
+min = [1.2, 0.0]
+max = [1.22, 0.6]
+[wall.translation]
+law = "polynomial"
+direction = [0.0, 1.0]
+coefficients = [0.0, 0.1463, 72.305, -285.115]
+end = 0.15
+[[wall]]
+name = "paddle"
+min = [5.0, 0.0]
+max = [5.1, 1.0]
+[wall.translation]
+law = "file"
+direction = [-1.0, 0.0]
+file = "paddle.csv"
+time_column = "Time [s]"
+column = "Pos [mm]"
+scale = 0.001
+[wall.rotation]
+law = "sinusoidal"
+centre = [5.05, 0.0]
+amplitude = 10.0
+period = 2.0
+)";
+  {
+    std::ofstream toml(dir / "case.toml");
+    toml << "[time]\nend = 1.5\n" << walls;
+  }
+  const Case c = load_case_file(dir / "case.toml");
+  const BodyState<2> gate = body_state(rigid_motion_of<2>(c.walls[0]), 0.1);
+  EXPECT_NEAR(gate.displacement[1], 0.452565, 1e-12);
+  EXPECT_EQ(gate.displacement[0], 0.0);
+  const RigidMotion<2> paddle = rigid_motion_of<2>(c.walls[1]);
+  const BodyState<2> at = body_state(paddle, 0.5);
+  EXPECT_NEAR(at.displacement[0], -0.01, 1e-15);  // 10 mm along -x
+  EXPECT_NEAR(at.angle, 10.0 * std::numbers::pi / 180.0 * std::sin(std::numbers::pi / 2), 1e-12);
+  EXPECT_EQ(c.walls[1].translation.file, (dir / "paddle.csv").string());
+  // The same case to t = 3 s runs past the file's 2 s.
+  {
+    std::ofstream toml(dir / "case.toml");
+    toml << "[time]\nend = 3.0\n" << walls;
+  }
+  try {
+    (void)load_case_file(dir / "case.toml");
+    ADD_FAILURE() << "a motion file shorter than the run was accepted";
+  } catch (const CaseError& e) {
+    expect_contains(e.what(), "wall[1].translation.file = \"paddle.csv\": its last time is t = 2 s");
+    expect_contains(e.what(), "before time.end = 3 s");
+    expect_contains(e.what(), "wall[1].translation.past_end = \"hold\"");
+  }
+  std::filesystem::remove(dir / "paddle.csv");
+  try {
+    (void)load_case_file(dir / "case.toml");
+    ADD_FAILURE() << "a missing motion file was accepted";
+  } catch (const CaseError& e) {
+    expect_contains(e.what(), "wall[1].translation.file = \"paddle.csv\":");
+    expect_contains(e.what(), "paddle.csv: no such file");
+  }
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -35,6 +35,7 @@ std::string type_of(const Param<Owner>& p) {
           else if constexpr (std::is_same_v<T, std::string>) return "string";
           else if constexpr (std::is_same_v<T, Vec3>) return "vector";
           else if constexpr (std::is_same_v<T, std::vector<std::string>>) return "strings";
+          else if constexpr (std::is_same_v<T, std::vector<double>>) return "numbers";
           else return "points";
         }
       },
@@ -74,6 +75,12 @@ toml::array all_descriptions() {
         if (p.key.rfind(s.name + ".", 0) == 0) keys.push_back(describe(p, p.key, s.name, false));
     } else if (s.name == "probe") {
       for (const auto& p : probe_params()) keys.push_back(describe(p, s.name + "." + p.key, s.name, true));
+    } else if (s.name == "wall") {
+      for (const auto& p : wall_params()) keys.push_back(describe(p, s.name + "." + p.key, s.name, true));
+      for (const bool rotation : {false, true})
+        for (const auto& p : motion_law_params(rotation))
+          keys.push_back(describe(p, fmt::format("wall.{}.{}", rotation ? "rotation" : "translation", p.key),
+                                  s.name, true));
     } else {
       for (const auto& p : region_params()) keys.push_back(describe(p, s.name + "." + p.key, s.name, true));
     }

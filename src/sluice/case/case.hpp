@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "sluice/core/vec.hpp"
+#include "sluice/geometry/motion.hpp"
 #include "sluice/geometry/triangle_mesh.hpp"
 
 namespace sluice {
@@ -47,13 +48,43 @@ inline constexpr std::array<std::string_view, 2> probe_correction_names = {"shep
 enum class GaugeMeasure { highest, column };
 inline constexpr std::array<std::string_view, 2> gauge_measure_names = {"highest", "column"};
 
+// A wall's prescribed motion: a law for its translation and one for its rotation (geometry/motion.hpp).
+enum class MotionLawType { none, linear, polynomial, sinusoidal, file };
+inline constexpr std::array<std::string_view, 5> motion_law_names = {"none", "linear", "polynomial", "sinusoidal", "file"};
+enum class AfterMotion { hold, continue_ };
+inline constexpr std::array<std::string_view, 2> after_motion_names = {"hold", "continue"};
+enum class PastFileEnd { error, hold };
+inline constexpr std::array<std::string_view, 2> past_file_end_names = {"error", "hold"};
+
 template <class E, std::size_t N>
 constexpr std::string_view name_of(E value, const std::array<std::string_view, N>& names) {
   return names[static_cast<std::size_t>(value)];
 }
 
+// One law of a wall's motion: [wall.translation] (a displacement in m along `direction`) or
+// [wall.rotation] (an angle in degrees about `axis` through `centre`). Values, rates and coefficients
+// are in the law's unit: m, m/s for a translation; degrees, degrees/s for a rotation.
+struct MotionLawSpec {
+  MotionLawType law = MotionLawType::none;
+  Vec3 direction{};             // translation: the direction of motion (normalised when read)
+  Vec3 centre{};                // rotation: the centre of rotation at the start
+  Vec3 axis{0.0, 0.0, 1.0};     // rotation, 3D: the axis (normalised when read); 2D turns about z
+  double speed = 0.0;           // linear: the rate
+  double start = 0.0;           // linear, polynomial, sinusoidal: when the law starts
+  double end = 0.0;             // linear, polynomial: when it ends
+  std::vector<double> coefficients;  // polynomial: c0, c1, ... of sum c_k (t - start)^k
+  AfterMotion after = AfterMotion::hold;  // polynomial: after `end`
+  double amplitude = 0.0, period = 0.0, phase = 0.0, ramp = 0.0;  // sinusoidal (phase in degrees)
+  std::string file;             // file: a CSV of the motion; made absolute when read
+  std::string time_column, column;
+  double scale = 1.0, time_offset = 0.0;
+  PastFileEnd past_end = PastFileEnd::error;
+  std::shared_ptr<const MotionSeries> series;  // file: the series read (set by the loader, not a key)
+};
+
 // A water region or a solid wall: a box (min, max), in 2D a polygon (its points, in either order), in
-// 3D a closed triangle mesh read from a file (STL or OBJ), scaled and moved.
+// 3D a closed triangle mesh read from a file (STL or OBJ), scaled and moved. A wall is a body: it has a
+// name and may move (its translation and rotation laws; both none: fixed).
 struct Region {
   Shape shape = Shape::box;
   Vec3 min{};
@@ -63,6 +94,12 @@ struct Region {
   double scale = 1.0;        // mesh vertex v is placed at scale * v + offset
   Vec3 offset{};
   std::shared_ptr<const TriangleMesh> mesh;  // the placed, checked mesh (set by the loader, not a key)
+  // Walls only.
+  std::string name;                   // unique among the walls; default "wall<N>", N from 1
+  MotionLawSpec translation, rotation;
+  [[nodiscard]] bool moves() const {
+    return translation.law != MotionLawType::none || rotation.law != MotionLawType::none;
+  }
 };
 
 // A probe sampled during the run (see io/probes.hpp).

@@ -25,7 +25,7 @@ class TemplateWriter {
       comment(s.description, "");
       if (!s.is_array) write_section(s);
       else if (s.name == "water") write_items(s, c_.water, region_params());
-      else if (s.name == "wall") write_items(s, c_.walls, region_params());
+      else if (s.name == "wall") write_walls(s);
       else write_items(s, c_.probes, probe_params());
     }
     return out_;
@@ -71,6 +71,40 @@ class TemplateWriter {
       for (const auto& p : params)
         if (p.applies == nullptr || p.applies(item))
           out_ += fmt::format("{} = {}\n", p.key, format_value(current_value(item, p), c_.dimension));
+    }
+  }
+
+  // [[wall]] items as the others, each followed by its [wall.translation] and [wall.rotation] tables
+  // when it moves; their keys described once after the walls' own.
+  void write_walls(const Section& s) {
+    comment("Keys of each [[wall]]:", "");
+    for (const auto& p : wall_params()) {
+      out_ += fmt::format("#   {}:\n", p.key);
+      describe(p, "#     ");
+    }
+    for (const bool rotation : {false, true}) {
+      const char* part = rotation ? "rotation" : "translation";
+      comment(fmt::format("A moving wall's [wall.{}] table, after its [[wall]]; its keys:", part), "");
+      for (const auto& p : motion_law_params(rotation)) {
+        if (p.only_3d && c_.dimension != 3) continue;
+        out_ += fmt::format("#   {}:\n", p.key);
+        describe(p, "#     ");
+      }
+    }
+    if (c_.walls.empty()) comment(fmt::format("(this case has no [[{}]] entries)", s.name), "");
+    for (const auto& wall : c_.walls) {
+      out_ += "[[wall]]\n";
+      for (const auto& p : wall_params())
+        if (p.applies == nullptr || p.applies(wall))
+          out_ += fmt::format("{} = {}\n", p.key, format_value(current_value(wall, p), c_.dimension));
+      for (const bool rotation : {false, true}) {
+        const MotionLawSpec& law = rotation ? wall.rotation : wall.translation;
+        if (law.law == MotionLawType::none) continue;
+        out_ += fmt::format("[wall.{}]\n", rotation ? "rotation" : "translation");
+        for (const auto& p : motion_law_params(rotation))
+          if ((p.applies == nullptr || p.applies(law)) && !(p.only_3d && c_.dimension != 3))
+            out_ += fmt::format("{} = {}\n", p.key, format_value(current_value(law, p), c_.dimension));
+      }
     }
   }
 

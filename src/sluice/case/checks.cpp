@@ -4,6 +4,7 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <set>
 #include <string_view>
@@ -277,6 +278,39 @@ struct Checker {
            "positive dynamic viscosity (water: 0.001 Pa s)");
   }
 
+  // Each wall is a body: a name that is one plain path component (bodies/<name>.csv), unique; and a
+  // motion whose laws can be evaluated.
+  void check_bodies() const {
+    std::set<std::string> names;
+    for (std::size_t i = 0; i < c.walls.size(); ++i) {
+      const Region& w = c.walls[i];
+      const bool plain = !w.name.empty() && w.name.size() <= 64 && w.name != "." && w.name != ".." &&
+                         std::all_of(w.name.begin(), w.name.end(), [](char ch) {
+                           return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-' || ch == '.';
+                         });
+      if (!plain)
+        fail(fmt::format("wall[{}].name = {}: expected 1 to 64 letters, digits, '_', '-' or '.' (it names the file "
+                         "bodies/<name>.csv)",
+                         i, quote(w.name)));
+      if (!names.insert(w.name).second)
+        fail(fmt::format("wall[{}].name = {}: another wall has that name; expected each wall's name once", i,
+                         quote(w.name)));
+      for (const bool rotation : {false, true}) {
+        const MotionLawSpec& m = rotation ? w.rotation : w.translation;
+        const std::string key = fmt::format("wall[{}].{}", i, rotation ? "rotation" : "translation");
+        if (m.law == MotionLawType::none) continue;
+        const Vec3& v = rotation ? m.axis : m.direction;
+        double length = 0.0;
+        for (int d = 0; d < c.dimension; ++d) length += v[d] * v[d];
+        if (!(rotation && c.dimension == 2) && !(length > 0.0))
+          fail(fmt::format("{}.{} = {}: a vector of length 0; expected the {}", key, rotation ? "axis" : "direction",
+                           format_vector(v, c.dimension), rotation ? "axis of rotation" : "direction of motion"));
+        if ((m.law == MotionLawType::linear || m.law == MotionLawType::polynomial) && !(m.end > m.start))
+          fail(fmt::format("{}.end = {} s is not after its start, {} s; expected end > start", key, m.end, m.start));
+      }
+    }
+  }
+
   // The set-up fills the tank and its walls (2h each side) with a lattice: a bound on its points keeps
   // a mistyped dx from exhausting memory.
   void check_particle_count() const {
@@ -298,6 +332,7 @@ void validate_case(const Case& c, const std::string& source) {
   check.check_tank_size();
   check.check_water();
   check.check_walls();
+  check.check_bodies();
   check.check_probes();
   check.check_wall_friction();
   if (c.output_formats.empty()) check.fail("output.formats is empty; expected at least one of \"vtk\", \"npz\"");

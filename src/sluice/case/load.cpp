@@ -12,6 +12,7 @@
 #include "sluice/case/case_error.hpp"
 #include "sluice/case/checks.hpp"
 #include "sluice/case/meshes.hpp"
+#include "sluice/case/motions.hpp"
 #include "sluice/case/param_fields.hpp"
 #include "sluice/case/suggest.hpp"
 #include "sluice/case/toml_values.hpp"
@@ -30,6 +31,7 @@ std::string where(const std::string& source, const toml::node& n) {
 
 std::string describe_shape(const Region& r) { return std::string(name_of(r.shape, shape_names)); }
 std::string describe_shape(const Probe& p) { return std::string(name_of(p.type, probe_type_names)) + " probe"; }
+std::string describe_shape(const MotionLawSpec& m) { return std::string(name_of(m.law, motion_law_names)) + " law"; }
 
 template <class Owner>
 std::vector<std::string> keys_of(const std::vector<Param<Owner>>& params) {
@@ -96,10 +98,32 @@ class Loader {
     for (const auto& item : *items) {
       const toml::table& t = *item.as_table();
       if (name == "water") c_.water.push_back(read_item(t, region_params(), name, index));
-      else if (name == "wall") c_.walls.push_back(read_item(t, region_params(), name, index));
+      else if (name == "wall") c_.walls.push_back(read_wall(t, index));
       else c_.probes.push_back(read_item(t, probe_params(), name, index));
       ++index;
     }
+  }
+
+  // A [[wall]]: a region with a name, and its [wall.translation] and [wall.rotation] tables.
+  [[nodiscard]] Region read_wall(const toml::table& t, std::size_t index) const {
+    toml::table keys = t;
+    keys.erase("translation");
+    keys.erase("rotation");
+    Region wall = read_item(keys, wall_params(), "wall", index);
+    if (wall.name.empty()) wall.name = fmt::format("wall{}", index + 1);
+    for (const bool rotation : {false, true}) {
+      const char* part = rotation ? "rotation" : "translation";
+      const toml::node* node = t.get(part);
+      if (node == nullptr) continue;
+      const toml::table* law = node->as_table();
+      if (law == nullptr)
+        throw CaseError(fmt::format("{}: wall[{}].{} must be a table, [wall.{}] after the [[wall]], holding its law "
+                                    "and the law's keys",
+                                    where(source_, *node), index, part, part));
+      (rotation ? wall.rotation : wall.translation) =
+          read_item(*law, motion_law_params(rotation), fmt::format("wall.{}", part), index);
+    }
+    return wall;
   }
 
   template <class Owner>
@@ -174,6 +198,7 @@ Case parse_case(std::string_view toml_text, const std::string& source, const std
   Case c = loader.result();
   c.mesh_directory = mesh_directory;
   load_meshes(c, source);
+  load_motion_files(c, source);
   validate_case(c, source);
   return c;
 }

@@ -10,6 +10,7 @@
 #include "sluice/case/case_error.hpp"
 #include "sluice/case/checks.hpp"
 #include "sluice/case/meshes.hpp"
+#include "sluice/case/motions.hpp"
 #include "sluice/case/param_fields.hpp"
 #include "sluice/case/suggest.hpp"
 #include "sluice/case/toml_values.hpp"
@@ -140,13 +141,26 @@ void set_case_key(Case& c, const Assignment& a) {
 void apply_one_override(Case& c, std::string_view assignment) {
   const Assignment a = split_assignment(assignment);
   static const std::regex item_key(R"(^(water|wall|probe)(?:\[(\d+)\]|\.(\d+))\.(\w+)$)");
+  static const std::regex law_key(R"(^wall(?:\[(\d+)\]|\.(\d+))\.(translation|rotation)\.(\w+)$)");
   std::smatch m;
+  if (std::regex_match(a.key, m, law_key)) {
+    const std::string digits = m[1].matched ? m[1].str() : m[2].str();
+    const bool rotation = m[3] == "rotation";
+    const std::size_t index = digits.size() > 9 ? std::numeric_limits<std::size_t>::max() : std::stoul(digits);
+    if (index >= c.walls.size())
+      throw CaseError(fmt::format("{}: the case has {} [[wall]] entr{} (numbered from 0); there is no wall[{}]", a.at,
+                                  c.walls.size(), c.walls.size() == 1 ? "y" : "ies", digits));
+    std::vector<MotionLawSpec> law{rotation ? c.walls[index].rotation : c.walls[index].translation};
+    set_item_key(law, motion_law_params(rotation), a, fmt::format("wall.{}", m[3].str()), "0", m[4], c.dimension);
+    (rotation ? c.walls[index].rotation : c.walls[index].translation) = law[0];
+    return;
+  }
   if (!std::regex_match(a.key, m, item_key)) return set_case_key(c, a);
   const std::string section = m[1];
   const std::string digits = m[2].matched ? m[2].str() : m[3].str();
   const std::string sub = m[4];
   if (section == "water") set_item_key(c.water, region_params(), a, section, digits, sub, c.dimension);
-  else if (section == "wall") set_item_key(c.walls, region_params(), a, section, digits, sub, c.dimension);
+  else if (section == "wall") set_item_key(c.walls, wall_params(), a, section, digits, sub, c.dimension);
   else set_item_key(c.probes, probe_params(), a, section, digits, sub, c.dimension);
 }
 
@@ -155,6 +169,7 @@ void apply_one_override(Case& c, std::string_view assignment) {
 void apply_override(Case& c, std::string_view assignment) {
   apply_one_override(c, assignment);
   load_meshes(c, fmt::format("--set {}", assignment));
+  load_motion_files(c, fmt::format("--set {}", assignment));
   validate_case(c, fmt::format("--set {}", assignment));
 }
 
@@ -163,6 +178,7 @@ void apply_overrides(Case& c, const std::vector<std::string>& assignments) {
   if (!assignments.empty()) {
     const std::string source = fmt::format("with --set {}", fmt::join(assignments, " --set "));
     load_meshes(c, source);
+    load_motion_files(c, source);
     validate_case(c, source);
   }
 }

@@ -1,5 +1,7 @@
 #include "sluice/case/parameter_table.hpp"
 
+#include <fmt/format.h>
+
 #include <array>
 #include <string_view>
 
@@ -250,6 +252,103 @@ const std::vector<Param<Region>>& region_params() {
   return params;
 }
 
+const std::vector<Param<Region>>& wall_params() {
+  static const std::vector<Param<Region>> params = [] {
+    std::vector<Param<Region>> p = region_params();
+    p.insert(p.begin(), declare("name", &Region::name, "", std::string(""), unbounded_lower, unbounded_upper,
+                                "Name of the wall, a body: letters, digits, '_', '-' and '.', unique among the walls; "
+                                "its series go to bodies/<name>.csv. Empty: wall1, wall2, ... in file order."));
+    return p;
+  }();
+  return params;
+}
+
+namespace {
+
+bool law_is(const MotionLawSpec& m, MotionLawType t) { return m.law == t; }
+bool moves(const MotionLawSpec& m) { return m.law != MotionLawType::none; }
+bool is_linear(const MotionLawSpec& m) { return law_is(m, MotionLawType::linear); }
+bool is_polynomial(const MotionLawSpec& m) { return law_is(m, MotionLawType::polynomial); }
+bool is_sinusoidal(const MotionLawSpec& m) { return law_is(m, MotionLawType::sinusoidal); }
+bool is_file(const MotionLawSpec& m) { return law_is(m, MotionLawType::file); }
+bool has_interval(const MotionLawSpec& m) { return is_linear(m) || is_polynomial(m); }
+bool has_start(const MotionLawSpec& m) { return has_interval(m) || is_sinusoidal(m); }
+
+std::vector<Param<MotionLawSpec>> law_params(bool rotation) {
+  constexpr double inf = 1e300;
+  const std::string unit = rotation ? "deg" : "m", rate = rotation ? "deg/s" : "m/s";
+  const std::string what = rotation ? "angle" : "displacement";
+  std::vector<Param<MotionLawSpec>> p = {
+      declare_choice<&MotionLawSpec::law>(
+          "law", MotionLawType::none, motion_law_names,
+          fmt::format("The law of the wall's {}: none; linear (a constant rate between start and end); polynomial "
+                      "(sum of c_k (t - start)^k between start and end, then held or continued); sinusoidal (amplitude "
+                      "sin(2 pi (t - start)/period + phase) - amplitude sin(phase), ramped up over `ramp` periods); "
+                      "file (a recorded series, interpolated by a natural cubic spline).",
+                      what)),
+  };
+  if (rotation) {
+    p.push_back(used_by(moves, declare("centre", &MotionLawSpec::centre, "m", Vec3{}, unbounded_lower, unbounded_upper,
+                                       "The centre of rotation at the start; it moves with the wall's translation.")));
+    p.push_back(optional_for(moves, only_in_3d(declare("axis", &MotionLawSpec::axis, "", Vec3{0.0, 0.0, 1.0},
+                                                       unbounded_lower, unbounded_upper,
+                                                       "The axis of rotation (3D; right-handed; normalised). In 2D "
+                                                       "the wall turns about z, anticlockwise for positive angles."))));
+  } else {
+    p.push_back(used_by(moves, declare("direction", &MotionLawSpec::direction, "", Vec3{}, unbounded_lower,
+                                       unbounded_upper, "The direction of the translation (normalised).")));
+  }
+  const std::vector<Param<MotionLawSpec>> rest = {
+      used_by(is_linear, declare("speed", &MotionLawSpec::speed, rate, 0.0, unbounded_lower, unbounded_upper,
+                                 "Linear: the rate.")),
+      optional_for(has_start, declare("start", &MotionLawSpec::start, "s", 0.0, 0.0, inf,
+                                      "When the law starts; before it the wall is at rest where it starts.")),
+      used_by(has_interval, declare("end", &MotionLawSpec::end, "s", 0.0, 0.0, inf, "When the law ends.")),
+      used_by(is_polynomial, declare("coefficients", &MotionLawSpec::coefficients, unit, std::vector<double>{},
+                                     unbounded_lower, unbounded_upper,
+                                     "Polynomial: c0, c1, c2, ... of sum c_k (t - start)^k (units " + unit + ", " +
+                                         unit + "/s, " + unit + "/s^2, ...).")),
+      optional_for(is_polynomial, declare_choice<&MotionLawSpec::after>(
+                                      "after", AfterMotion::hold, after_motion_names,
+                                      "Polynomial, after `end`: hold (stop where it got to) or continue (at the "
+                                      "rate it had at `end`).")),
+      used_by(is_sinusoidal, declare("amplitude", &MotionLawSpec::amplitude, unit, 0.0, unbounded_lower,
+                                     unbounded_upper, "Sinusoidal: the amplitude.")),
+      used_by(is_sinusoidal,
+              declare("period", &MotionLawSpec::period, "s", 0.0, 1e-6, inf, "Sinusoidal: the period.")),
+      optional_for(is_sinusoidal, declare("phase", &MotionLawSpec::phase, "deg", 0.0, -360.0, 360.0,
+                                          "Sinusoidal: the phase; the value is shifted so that it starts at 0.")),
+      optional_for(is_sinusoidal, declare("ramp", &MotionLawSpec::ramp, "periods", 0.0, 0.0, 1e6,
+                                          "Sinusoidal: the number of periods over which the motion grows from rest "
+                                          "((1 - cos) ramp: the wall starts with zero velocity and acceleration).")),
+      used_by(is_file, declare("file", &MotionLawSpec::file, "", std::string(""), unbounded_lower, unbounded_upper,
+                               "File: a CSV with a header line; a relative path is relative to the case file's "
+                               "directory.")),
+      used_by(is_file, declare("time_column", &MotionLawSpec::time_column, "", std::string(""), unbounded_lower,
+                               unbounded_upper, "File: the name of the time column (s), as the header spells it.")),
+      used_by(is_file, declare("column", &MotionLawSpec::column, "", std::string(""), unbounded_lower, unbounded_upper,
+                               "File: the name of the column of the " + what + ", as the header spells it.")),
+      optional_for(is_file, declare("scale", &MotionLawSpec::scale, "", 1.0, unbounded_lower, unbounded_upper,
+                                    "File: the factor from the column's values to the wall's " + what + " in " + unit +
+                                        " (a lever arm's ratio, a unit's)." )),
+      optional_for(is_file, declare("time_offset", &MotionLawSpec::time_offset, "s", 0.0, unbounded_lower,
+                                    unbounded_upper, "File: added to the file's times (the run's t = file time + offset).")),
+      optional_for(is_file, declare_choice<&MotionLawSpec::past_end>(
+                                "past_end", PastFileEnd::error, past_file_end_names,
+                                "File: a run whose end time is past the file's last time is refused (error) or the "
+                                "wall stays at its last value at rest (hold).")),
+  };
+  p.insert(p.end(), rest.begin(), rest.end());
+  return p;
+}
+
+}  // namespace
+
+const std::vector<Param<MotionLawSpec>>& motion_law_params(bool rotation) {
+  static const std::vector<Param<MotionLawSpec>> translation = law_params(false), turning = law_params(true);
+  return rotation ? turning : translation;
+}
+
 const std::vector<Param<Probe>>& probe_params() {
   static const std::vector<Param<Probe>> params = {
       declare("name", &Probe::name, "", std::monostate{}, unbounded_lower, unbounded_upper,
@@ -288,10 +387,11 @@ const std::vector<Param<Probe>>& probe_params() {
 std::vector<std::string> all_keys() {
   std::vector<std::string> keys;
   for (const auto& p : case_params()) keys.push_back(p.key);
-  for (const auto& p : region_params()) {
-    keys.push_back("water." + p.key);
-    keys.push_back("wall." + p.key);
-  }
+  for (const auto& p : region_params()) keys.push_back("water." + p.key);
+  for (const auto& p : wall_params()) keys.push_back("wall." + p.key);
+  for (const bool rotation : {false, true})
+    for (const auto& p : motion_law_params(rotation))
+      keys.push_back(fmt::format("wall.{}.{}", rotation ? "rotation" : "translation", p.key));
   for (const auto& p : probe_params()) keys.push_back("probe." + p.key);
   return keys;
 }

@@ -14,7 +14,8 @@ namespace sluice {
 // A value as the case file writes it. A choice (an enum of the case) is written as its name; a vector
 // has as many components as the case has dimensions.
 using ParamValue =
-    std::variant<std::monostate, double, int, bool, std::string, Vec3, std::vector<std::string>, std::vector<Vec2>>;
+    std::variant<std::monostate, double, int, bool, std::string, Vec3, std::vector<std::string>, std::vector<Vec2>,
+                 std::vector<double>>;
 
 // A field of an enum type, reached through its index in the Param's `choices` (which list the names
 // in enum order).
@@ -27,7 +28,8 @@ struct ChoiceField {
 template <class Owner>
 struct Param {
   using Field = std::variant<double Owner::*, int Owner::*, bool Owner::*, std::string Owner::*, Vec3 Owner::*,
-                             std::vector<std::string> Owner::*, std::vector<Vec2> Owner::*, ChoiceField<Owner>>;
+                             std::vector<std::string> Owner::*, std::vector<Vec2> Owner::*,
+                             std::vector<double> Owner::*, ChoiceField<Owner>>;
   std::string key;           // "domain.dx" for case keys; "min" for keys of a [[water]] item
   Field field;
   std::string unit;          // "" when dimensionless
@@ -54,6 +56,10 @@ struct Section {
 const std::vector<Section>& case_sections();
 const std::vector<Param<Case>>& case_params();
 const std::vector<Param<Region>>& region_params();
+// The keys of a [[wall]]: a region's and the body's own (name).
+const std::vector<Param<Region>>& wall_params();
+// The keys of a wall's [wall.translation] (rotation = false) and [wall.rotation] tables.
+const std::vector<Param<MotionLawSpec>>& motion_law_params(bool rotation);
 const std::vector<Param<Probe>>& probe_params();
 
 // Every key as an error message names it: "domain.dx", and "water.min", "probe.name" for the keys of

@@ -138,6 +138,20 @@ std::vector<Vec2> read_points(const Reading& r) {
   return points;
 }
 
+// Finite numbers, at least one, each within [lower, upper] when that is a range.
+std::vector<double> read_numbers(const Reading& r, double lower, double upper) {
+  const toml::array* a = r.node.as_array();
+  if (a == nullptr || a->empty()) r.fail("wrong type");
+  std::vector<double> v;
+  for (const auto& item : *a) {
+    const auto x = as_number(item);
+    if (!x || !std::isfinite(*x)) r.fail("wrong type");
+    if (lower <= upper && (*x < lower || *x > upper)) r.fail("out of range");
+    v.push_back(*x);
+  }
+  return v;
+}
+
 // Distinct strings, each one of `choices`.
 std::vector<std::string> read_string_list(const Reading& r, const std::vector<std::string>& choices) {
   const toml::array* a = r.node.as_array();
@@ -175,6 +189,7 @@ void assign(Owner& o, const Param<Owner>& p, const toml::node& n, const std::str
           else if constexpr (std::is_same_v<T, std::string>) o.*member = read_string(r, p.choices);
           else if constexpr (std::is_same_v<T, Vec3>) o.*member = read_vector(r, dimension);
           else if constexpr (std::is_same_v<T, std::vector<Vec2>>) o.*member = read_points(r);
+          else if constexpr (std::is_same_v<T, std::vector<double>>) o.*member = read_numbers(r, p.lower, p.upper);
           else o.*member = read_string_list(r, p.choices);
         }
       },
@@ -184,5 +199,7 @@ void assign(Owner& o, const Param<Owner>& p, const toml::node& n, const std::str
 template void assign(Case&, const Param<Case>&, const toml::node&, const std::string&, const std::string&, int);
 template void assign(Region&, const Param<Region>&, const toml::node&, const std::string&, const std::string&, int);
 template void assign(Probe&, const Param<Probe>&, const toml::node&, const std::string&, const std::string&, int);
+template void assign(MotionLawSpec&, const Param<MotionLawSpec>&, const toml::node&, const std::string&,
+                     const std::string&, int);
 
 }  // namespace sluice

@@ -109,6 +109,10 @@ std::string format_value(const ParamValue& v, int dimension) {
           std::vector<std::string> pairs;
           for (const Vec2& q : x) pairs.push_back(fmt::format("[{}, {}]", format_number(q[0]), format_number(q[1])));
           return fmt::format("[{}]", fmt::join(pairs, ", "));
+        } else if constexpr (std::is_same_v<T, std::vector<double>>) {
+          std::vector<std::string> numbers;
+          for (const double q : x) numbers.push_back(format_number(q));
+          return fmt::format("[{}]", fmt::join(numbers, ", "));
         } else {
           std::vector<std::string> quoted;
           for (const auto& s : x) quoted.push_back(quote(s));
@@ -145,6 +149,8 @@ std::string expectation(const Param<Owner>& p, int dimension) {
             return (dimension == 3 ? "an array of three numbers [x, y, z]" : "an array of two numbers [x, y]") + unit;
           } else if constexpr (std::is_same_v<T, std::vector<Vec2>>) {
             return "an array of points [[x, y], ...]" + unit;
+          } else if constexpr (std::is_same_v<T, std::vector<double>>) {
+            return "an array of one or more numbers [a, b, ...]" + unit;
           } else {
             return fmt::format("an array of strings, each one of \"{}\"", fmt::join(p.choices, "\", \""));
           }
@@ -156,5 +162,6 @@ std::string expectation(const Param<Owner>& p, int dimension) {
 template std::string expectation(const Param<Case>&, int);
 template std::string expectation(const Param<Region>&, int);
 template std::string expectation(const Param<Probe>&, int);
+template std::string expectation(const Param<MotionLawSpec>&, int);
 
 }  // namespace sluice
