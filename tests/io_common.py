@@ -72,6 +72,7 @@ NPZ_ARRAYS = {  # name -> (dtype, shape with N for the particle count)
     "p": ("<f8", ("N",)),
     "kind": ("|u1", ("N",)),
     "id": ("<u4", ("N",)),
+    "body": ("|u1", ("N",)),  # 0 water, 1 the tank, k + 2 the case's wall k
 }
 
 DIAGNOSTICS_COLUMNS = ["time", "step", "dt", "max_speed", "min_density", "max_density", "kinetic_energy",
@@ -158,7 +159,7 @@ def load_vtu(path):
     n = mesh.points.shape[0]
     check(len(mesh.cells) == 1 and mesh.cells[0].type == "vertex" and len(mesh.cells[0].data) == n,
           f"{path}: expected one vertex cell per point")
-    check(sorted(mesh.point_data) == ["density", "id", "kind", "pressure", "velocity"],
+    check(sorted(mesh.point_data) == ["body", "density", "id", "kind", "pressure", "velocity"],
           f"{path}: point data {sorted(mesh.point_data)}")
     return mesh
 

@@ -255,6 +255,7 @@ Frame lattice_frame(double t, double dx, double width, const std::function<doubl
       f.pressure().push_back(0.0);
       f.kind().push_back(0);
       f.id().push_back(id++);
+      f.body().push_back(0);
     }
   return f;
 }

@@ -175,6 +175,7 @@ TEST(FuzzRegressions, FixingTheChecksumsReachesTheParsingBehindThem) {
   f.pressure() = {0.0};
   f.kind() = {0};
   f.id() = {0};
+  f.body() = {0};
   std::string npz = frame_to_npz(f);
   EXPECT_EQ(fuzz::check_frame(npz), fuzz::Outcome::accepted);
   // Change the time's value: the zip CRC no longer matches, until fixed.

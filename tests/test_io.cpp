@@ -76,6 +76,7 @@ Frame small_frame() {
   f.pressure() = {0.0, 12.5, -3.75};
   f.kind() = {0, 0, 1};
   f.id() = {0, 1, 2};
+  f.body() = {0, 0, 1};
   return f;
 }
 
@@ -238,13 +239,13 @@ TEST(Frames, TruncatedNpzIsAClearError) {
 
 TEST(Frames, FlippedDataByteIsAChecksumError) {
   std::string bytes = frame_to_npz(small_frame());
-  // Inside the data of the last array ("id"), just before the central directory.
+  // Inside the data of the last array ("body"), just before the central directory.
   const auto directory = bytes.find("PK\x01\x02");
   ASSERT_NE(directory, std::string::npos);
   bytes[directory - 3] = static_cast<char>(bytes[directory - 3] ^ 0x40);
   const std::string message = error_of([&] { frame_from_npz(bytes, "frames/f.npz"); });
   EXPECT_NE(message.find("frames/f.npz"), std::string::npos) << message;
-  EXPECT_NE(message.find("id.npy: checksum mismatch"), std::string::npos) << message;
+  EXPECT_NE(message.find("body.npy: checksum mismatch"), std::string::npos) << message;
 }
 
 TEST(Frames, EveryFlippedByteIsDetectedOrHarmlessNeverACrash) {
@@ -302,6 +303,7 @@ Frame frame_of(std::size_t n) {
     f.pressure().push_back(9.81 * y);
     f.kind().push_back(i % 7 == 0 ? 1 : 0);
     f.id().push_back(static_cast<std::uint32_t>(i));
+    f.body().push_back(i % 7 == 0 ? 1 : 0);
   }
   return f;
 }
@@ -335,7 +337,8 @@ TEST(Frames, AreStreamedFromTheFrameWithoutACopyOfTheFile) {
 TEST(Frames, VtuDeclaresEveryFieldAndItsAppendedBlocksFit) {
   const Frame f = small_frame();
   const std::string vtu = frame_to_vtu(f);
-  for (const char* name : {"velocity", "density", "pressure", "kind", "id", "Points", "connectivity", "offsets", "types"})
+  for (const char* name :
+       {"velocity", "density", "pressure", "kind", "id", "body", "Points", "connectivity", "offsets", "types"})
     EXPECT_NE(vtu.find(fmt::format("Name=\"{}\"", name)), std::string::npos) << name;
   EXPECT_NE(vtu.find("NumberOfPoints=\"3\""), std::string::npos);
   EXPECT_NE(vtu.find("<AppendedData encoding=\"raw\">"), std::string::npos);
@@ -350,7 +353,7 @@ TEST(Frames, VtuDeclaresEveryFieldAndItsAppendedBlocksFit) {
     ++blocks;
   }
   EXPECT_EQ(at, end);
-  EXPECT_EQ(blocks, 9u);
+  EXPECT_EQ(blocks, 10u);
 }
 
 TEST(Frames, HoldTheRegistrysFrameFieldsWithThePressureAfterTheDensity) {
@@ -366,8 +369,8 @@ TEST(Frames, HoldTheRegistrysFrameFieldsWithThePressureAfterTheDensity) {
     short_names.push_back(field.short_name);
   }
   EXPECT_EQ(names, registry);
-  EXPECT_EQ(names, (std::vector<std::string>{"position", "velocity", "density", "pressure", "kind", "id"}));
-  EXPECT_EQ(short_names, (std::vector<std::string>{"x", "v", "rho", "p", "kind", "id"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"position", "velocity", "density", "pressure", "kind", "id", "body"}));
+  EXPECT_EQ(short_names, (std::vector<std::string>{"x", "v", "rho", "p", "kind", "id", "body"}));
 
   // A frame of a run: every field in particle-id order, the pressure from the equation of state.
   Simulation sim(tiny_case(), 1);
@@ -383,17 +386,18 @@ TEST(Frames, HoldTheRegistrysFrameFieldsWithThePressureAfterTheDensity) {
     EXPECT_EQ(f.density()[row], p.density[i]);
     EXPECT_DOUBLE_EQ(f.pressure()[row], sim.eos().pressure(p.density[i]));
     EXPECT_EQ(f.kind()[row], static_cast<std::uint8_t>(p.kind[i]));
+    EXPECT_EQ(f.body()[row], p.is_fluid(i) ? body_id::water : body_id::tank);
   }
   // The .npz holds them in that order after t, step and dx; the .vtu names each one.
   const std::string npz = frame_to_npz(f);
   std::size_t at = 0;
-  for (const std::string name : {"t", "step", "dx", "x", "v", "rho", "p", "kind", "id"}) {
+  for (const std::string name : {"t", "step", "dx", "x", "v", "rho", "p", "kind", "id", "body"}) {
     const auto next = npz.find(name + ".npy", at);
     ASSERT_NE(next, std::string::npos) << name;
     at = next + name.size() + 4;
   }
   const std::string vtu = frame_to_vtu(f);
-  for (const std::string name : {"velocity", "density", "pressure", "kind", "id"})
+  for (const std::string name : {"velocity", "density", "pressure", "kind", "id", "body"})
     EXPECT_NE(vtu.find(fmt::format("Name=\"{}\"", name)), std::string::npos) << name;
   EXPECT_THROW((void)f.values<double>("no_such_field"), std::out_of_range);
   EXPECT_THROW((void)f.values<double>("kind"), std::out_of_range);  // stored as bytes
@@ -551,10 +555,11 @@ TEST_F(CheckpointFile, AVersionOneCheckpointIsAClearError) {
       << message;
 }
 
-// Version 3 (before outflow) is version 4 without the outflow count after the rates, and version 2
+// Version 4 (before bodies) is version 5 without the body field, version 3 (before outflow) version 4
+// without the outflow count after the rates, and version 2
 // (before the leapfrog) version 3 without the rates-carried byte after the clock: such files still
 // restart, and continue exactly as the current file of the same state.
-TEST_F(CheckpointFile, VersionTwoAndThreeCheckpointsAreStillRead) {
+TEST_F(CheckpointFile, VersionTwoThreeAndFourCheckpointsAreStillRead) {
   ASSERT_FALSE(sim_->clock().rates_carried);
   const std::string stored_case = case_template(sim_->config());
   const std::size_t flag_at = 8 + 4 + 4 + 8 + stored_case.size() + 5 * 8;
@@ -563,15 +568,29 @@ TEST_F(CheckpointFile, VersionTwoAndThreeCheckpointsAreStillRead) {
   ASSERT_EQ(bytes_.substr(flag_at + 1, 8), std::string(8, '\0'));  // no outflow
   const auto older = [&](std::uint32_t version) {
     std::string old = bytes_;
+    // Before version 5, no body field: its block goes, and the field count drops by one.
+    const std::size_t n = sim_->particles<2>().size();
+    const auto body = old.find(std::string("\x04\x00" "body", 6));
+    const auto count_at = old.find(std::string("\x08\x00" "position", 10)) - 4;
+    if (body == std::string::npos) throw std::logic_error("no body field in the checkpoint");
+    old.erase(body, 2 + 4 + 1 + 1 + n);
+    std::uint32_t fields = 0;
+    std::memcpy(&fields, old.data() + count_at, sizeof fields);
+    --fields;
+    std::memcpy(old.data() + count_at, &fields, sizeof fields);
+    if (version == 4) {
+      std::memcpy(old.data() + 8, &version, sizeof version);
+      return parse_checkpoint(with_crc_fixed(old), "v4.bin");
+    }
     old.erase(flag_at + 1, 8);
     if (version == 2) old.erase(flag_at, 1);
     std::memcpy(old.data() + 8, &version, sizeof version);
     return parse_checkpoint(with_crc_fixed(old), fmt::format("v{}.bin", version));
   };
-  Checkpoint current = parse_checkpoint(bytes_, "v4.bin");
+  Checkpoint current = parse_checkpoint(bytes_, "v5.bin");
   Simulation from_current(current.config, std::move(current.particles), current.clock, 1);
   for (int i = 0; i < 10; ++i) from_current.step();
-  for (std::uint32_t version : {2u, 3u}) {
+  for (std::uint32_t version : {2u, 3u, 4u}) {
     SCOPED_TRACE(version);
     Checkpoint old = older(version);
     EXPECT_FALSE(old.clock.rates_carried);

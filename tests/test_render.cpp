@@ -67,6 +67,7 @@ Frame make_test_frame(double time, double dx, const std::vector<std::array<doubl
     f.pressure().push_back(0.0);
     f.kind().push_back(static_cast<std::uint8_t>(p[3]));
     f.id().push_back(static_cast<std::uint32_t>(i));
+    f.body().push_back(static_cast<std::uint8_t>(p[3]));
   }
   return f;
 }

@@ -11,6 +11,8 @@
 #include <utility>
 #include <vector>
 
+#include "sluice/core/particles.hpp"
+
 #include "sluice/case/case_error.hpp"
 #include "sluice/case/value_text.hpp"
 
@@ -220,6 +222,8 @@ struct Checker {
   // Boxes and polygons may reach into the tank's walls; a mesh, whose filling is a lattice of its own,
   // must lie inside the tank.
   void check_walls() const {
+    if (c.walls.size() > static_cast<std::size_t>(body_id::most_walls))
+      fail(fmt::format("{} [[wall]] regions; a case can have at most {}", c.walls.size(), body_id::most_walls));
     for (std::size_t i = 0; i < c.walls.size(); ++i) {
       const auto bounds = region_bounds(c.walls[i], "wall", i);
       if (c.walls[i].shape == Shape::mesh) check_inside_tank(bounds, "wall", i, "a mesh ");

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "sluice/case/case.hpp"
+#include "sluice/case/rigid_motion.hpp"
 
 namespace sluice {
 
@@ -13,9 +14,5 @@ namespace sluice {
 // file that is missing, unreadable or malformed (geometry/motion.hpp, read_motion_csv), or one that
 // ends before time.end with past_end = "error".
 void load_motion_files(Case& c, const std::string& source);
-
-// The prescribed motion of a wall, from its laws (a rotation's degrees made radians).
-template <int Dim>
-RigidMotion<Dim> rigid_motion_of(const Region& wall);
 
 }  // namespace sluice

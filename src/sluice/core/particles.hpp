@@ -20,6 +20,16 @@ namespace sluice {
 
 enum class Kind : std::uint8_t { fluid = 0, wall = 1 };
 
+// The body a particle belongs to (Particles::body): the water is body 0, the tank's own walls body 1,
+// and the case's [[wall]] number k (from 0) body k + 2. A body is what moves as one (geometry/motion.hpp)
+// and what the water's force is summed over.
+namespace body_id {
+inline constexpr std::uint8_t water = 0;
+inline constexpr std::uint8_t tank = 1;
+inline constexpr std::uint8_t first_wall = 2;
+inline constexpr int most_walls = 255 - first_wall + 1;  // [[wall]] regions a case can have
+}  // namespace body_id
+
 // What happens to a field.
 namespace field_role {
 inline constexpr unsigned state = 1;       // the particle's state: grows with add(), moves with every reordering
@@ -55,6 +65,7 @@ struct Particles {
   std::vector<double> density;
   std::vector<Kind> kind;
   std::vector<std::uint32_t> id;  // stable identity; the arrays are reordered by cell
+  std::vector<std::uint8_t> body;  // body_id: water, the tank, or a [[wall]]
   // Set when a particle was put back from inside a wall; its density is re-interpolated from its
   // neighbours at the next force evaluation.
   std::vector<std::uint8_t> needs_density_repair;
@@ -84,6 +95,7 @@ struct Particles {
     f(FieldSpec{"density", "kg/m^3", state | checkpoint | halo | frame, "rho"}, p.density);
     f(FieldSpec{"kind", "", state | checkpoint | halo | frame, "kind"}, p.kind);
     f(FieldSpec{"id", "", state | checkpoint | halo | frame, "id"}, p.id);
+    f(FieldSpec{"body", "", state | checkpoint | halo | frame, "body"}, p.body);
     f(FieldSpec{"needs_density_repair", "", state | checkpoint}, p.needs_density_repair);
     f(FieldSpec{"acceleration", "m/s^2", carried | recomputed}, p.acceleration);
     f(FieldSpec{"density_rate", "kg/m^3/s", carried | recomputed}, p.density_rate);
@@ -118,7 +130,11 @@ struct Particles {
 
   // Appends a particle at rest while a set is being built. Only the state fields grow (keeping the
   // set-up's peak memory low); call resize(size()) before rates or step-start fields are used.
+  // A wall particle is the tank's unless `in_body` says otherwise.
   void add(const std::array<double, Dim>& x, Kind k, double rho) {
+    add(x, k, rho, k == Kind::wall ? body_id::tank : body_id::water);
+  }
+  void add(const std::array<double, Dim>& x, Kind k, double rho, std::uint8_t in_body) {
     const std::size_t n = size();
     fields(*this, [&](const FieldSpec& info, auto& field) {
       if (info.has(field_role::state)) components(field, [](auto& c) { c.emplace_back(); });
@@ -127,6 +143,7 @@ struct Particles {
     density[n] = rho;
     kind[n] = k;
     id[n] = static_cast<std::uint32_t>(n);
+    body[n] = in_body;
   }
 
   // Keeps the state of the particles `keep` (ascending indices), renumbered 0..k-1 in that order;

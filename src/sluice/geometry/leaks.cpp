@@ -102,7 +102,8 @@ template <int Dim>
     const SurfacePoint<Dim> surface = solid->closest_surface_point(x);
     if (norm(surface.point - x) < 1e-12 * dx) break;  // on the surface already
     x = surface.point + (0.5 * dx) * surface.normal;
-    const double vn = dot(v, surface.normal);
+    // Reflected relative to the wall, which may move.
+    const double vn = dot(solid->moves() ? v - solid->velocity_at(surface.point) : v, surface.normal);
     if (vn < 0.0) v = v - (2.0 * vn) * surface.normal;
     solid = containing<Dim>(boxes, x);
   }
@@ -118,17 +119,18 @@ template <int Dim>
 [[gnu::noinline]] long stop_approach_one(const std::array<double*, Dim>& velocity, const std::vector<Bounded<Dim>>& boxes,
                                          double dx, double band,
                                          const typename Particles<Dim>::template Vector<double>* acceleration,
-                                         double tau, long i, const Vec<Dim>& x) {
+                                         double tau, bool relative, long i, const Vec<Dim>& x) {
   long changed = 0;
   for (const Bounded<Dim>& b : boxes) {
     if (!in_box<Dim>(b, x)) continue;
     const double distance = b.solid->signed_distance(x);
     if (distance >= band) continue;
     const Vec<Dim> normal = outward_normal<Dim>(*b.solid, x, distance, dx);
+    const Vec<Dim> wall = relative && b.moving ? b.solid->velocity_at(x) : Vec<Dim>{};
     double un = 0.0;
     for (int d = 0; d < Dim; ++d) {
       const double a = acceleration != nullptr ? (*acceleration)[d][i] : 0.0;
-      un += (velocity[d][i] + tau * a) * normal[d];
+      un += (velocity[d][i] + tau * a - wall[d]) * normal[d];
     }
     if (!(un < 0.0)) continue;
     const double f = std::clamp(1.0 - distance / band, 0.0, 2.0);
@@ -150,17 +152,19 @@ std::size_t put_back_leaked(Particles<Dim>& p, const Solids<Dim>& solids, double
 
 namespace {
 
-// The dx/4 stop of a velocity-like field (the drift's velocity, the shift's) at the walls.
+// The dx/4 stop of a velocity-like field (the drift's velocity, the shift's) at the walls: of the drift
+// velocity relative to a moving wall (`relative`), of a shift (a displacement through the water) as
+// it is.
 template <int Dim>
 std::size_t stop_approach(Particles<Dim>& p, const std::array<double*, Dim>& velocity, const Solids<Dim>& solids,
                           double dx, const typename Particles<Dim>::template Vector<double>* acceleration, double tau,
-                          int threads, const SolidReach<Dim>* near) {
+                          bool relative, int threads, const SolidReach<Dim>* near) {
   const double band = 0.25 * dx;
   if (near != nullptr && !(near->reach() >= band))
     throw std::invalid_argument("stop_wall_approach: the SolidReach's reach is below dx/4");
   const std::vector<Bounded<Dim>> boxes = bounded<Dim>(solids, band);
   return count_near_solids<Dim>(p, threads, near, [&](long i, const Vec<Dim>& x) {
-    return stop_approach_one<Dim>(velocity, boxes, dx, band, acceleration, tau, i, x);
+    return stop_approach_one<Dim>(velocity, boxes, dx, band, acceleration, tau, relative, i, x);
   });
 }
 
@@ -172,13 +176,13 @@ std::size_t stop_wall_approach(Particles<Dim>& p, const Solids<Dim>& solids, dou
                                int threads, const SolidReach<Dim>* near) {
   std::array<double*, Dim> velocity{};
   for (int d = 0; d < Dim; ++d) velocity[d] = p.velocity[d].data();
-  return stop_approach<Dim>(p, velocity, solids, dx, acceleration, tau, threads, near);
+  return stop_approach<Dim>(p, velocity, solids, dx, acceleration, tau, true, threads, near);
 }
 
 template <int Dim>
 std::size_t stop_shift_approach(Particles<Dim>& p, const std::array<double*, Dim>& shift_velocity,
                                 const Solids<Dim>& solids, double dx, int threads, const SolidReach<Dim>* near) {
-  return stop_approach<Dim>(p, shift_velocity, solids, dx, nullptr, 0.0, threads, near);
+  return stop_approach<Dim>(p, shift_velocity, solids, dx, nullptr, 0.0, false, threads, near);
 }
 
 template class SolidReach<2>;

@@ -1,5 +1,6 @@
 // Leak handling: a fluid particle found inside a solid wall is put back on the fluid side, half a
-// particle spacing from the wall surface, with the normal component of its velocity reversed; its
+// particle spacing from the wall surface, with the normal component of its velocity relative to the
+// wall (Solid::velocity_at: zero unless the wall moves) reversed; its
 // density is re-interpolated from its neighbours at the next force evaluation. Never deleted.
 #pragma once
 
@@ -79,7 +80,8 @@ std::size_t put_back_leaked(Particles<Dim>& p, const Solids<Dim>& solids, double
 
 // No penetration (physics.wall_no_penetration; the idea of DualSPHysics 5.4's mDBC penetration
 // control, on the walls' geometry): before a drift, a fluid particle closer than dx/4 to a wall surface
-// whose drift velocity u = v + tau a points into the wall (u.n < 0, n the surface's outward normal)
+// whose drift velocity relative to the wall, u = v + tau a - u_wall, points into it (u.n < 0, n the
+// surface's outward normal)
 // loses the part f (u.n) n of its velocity, f = 1 - 4 d/dx clamped to [0, 2] at signed distance d:
 // nothing at dx/4 (water at rest sits at dx/2), the approach stopped at the surface, reflected a
 // quarter spacing inside. tau a is the acceleration the drift adds (the leapfrog's half kick; else

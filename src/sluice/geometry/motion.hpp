@@ -151,6 +151,26 @@ struct PointMotion {
 template <int Dim>
 PointMotion<Dim> point_motion(const BodyState<Dim>& state, const Vec<Dim>& start);
 
+// The velocity and acceleration of the body point now at `x` (its position is x): no rotation to
+// compute, so cheap enough for every wall particle at every evaluation.
+template <int Dim>
+PointMotion<Dim> motion_at(const BodyState<Dim>& s, const Vec<Dim>& x) {
+  Vec<3> r{};
+  for (int d = 0; d < Dim; ++d) r[d] = x[d] - s.centre[d] - s.displacement[d];
+  const auto cross = [](const Vec<3>& a, const Vec<3>& b) -> Vec<3> {
+    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+  };
+  const Vec<3> ar = cross(s.axis, r);
+  const Vec<3> aar = cross(s.axis, ar);
+  PointMotion<Dim> m;
+  m.position = x;
+  for (int d = 0; d < Dim; ++d) {
+    m.velocity[d] = s.velocity[d] + s.angular_rate * ar[d];
+    m.acceleration[d] = s.acceleration[d] + s.angular_acceleration * ar[d] + s.angular_rate * s.angular_rate * aar[d];
+  }
+  return m;
+}
+
 // The inverse: the start position of the body point now at `x` (to query a solid's geometry, given
 // at the start, at the body's current pose).
 template <int Dim>

@@ -37,6 +37,8 @@ class MovingSolid final : public Solid<Dim> {
     const SurfacePoint<Dim> s = shape_->closest_surface_point(to_start<Dim>(state_, x));
     return {point_motion<Dim>(state_, s.point).position, rotate_to_now<Dim>(state_, s.normal)};
   }
+  [[nodiscard]] bool moves() const override { return true; }
+  [[nodiscard]] Vec<Dim> velocity_at(const Vec<Dim>& x) const override { return motion_at<Dim>(state_, x).velocity; }
   [[nodiscard]] Vec<Dim> lower() const override { return lower_; }
   [[nodiscard]] Vec<Dim> upper() const override { return upper_; }
   // An axis-aligned box stays one while it only translates.

@@ -17,6 +17,7 @@ struct Bounded {
   Vec<Dim> lower, upper;                 // grown by the margin
   Vec<Dim> solid_lower, solid_upper;     // the solid's own bounds
   bool box;                              // Solid::is_box
+  bool moving;                           // Solid::moves
 };
 
 // Each solid with its bounding box grown by `margin` on every side.
@@ -30,7 +31,7 @@ std::vector<Bounded<Dim>> bounded(const Solids<Dim>& solids, double margin) {
       lower[d] -= margin;
       upper[d] += margin;
     }
-    boxes.push_back({s.get(), lower, upper, s->lower(), s->upper(), s->is_box()});
+    boxes.push_back({s.get(), lower, upper, s->lower(), s->upper(), s->is_box(), s->moves()});
   }
   return boxes;
 }

@@ -238,7 +238,8 @@ std::shared_ptr<const Solid<Dim>> region_solid(const Region& r) {
 }
 
 template <int Dim>
-std::size_t remove_near_coincident(Particles<Dim>& p, double min_distance) {
+std::size_t remove_near_coincident(Particles<Dim>& p, double min_distance, const std::vector<std::uint8_t>& moving) {
+  const auto moves = [&](std::uint8_t body) { return body < moving.size() && moving[body] != 0; };
   const std::size_t n = p.size();
   if (n == 0) return 0;
   Vec<Dim> lo{}, hi{};
@@ -266,6 +267,11 @@ std::size_t remove_near_coincident(Particles<Dim>& p, double min_distance) {
           if (j == i || removed[j]) continue;
           if (p.kind[j] == Kind::wall && pass == Kind::fluid) continue;
           if (p.kind[j] == pass && j < i) continue;
+          // A moving body's walls may touch another's (a gate standing on the floor): each keeps its own
+          // particles. Fixed walls that overlap are thinned as one.
+          if (pass == Kind::wall && p.kind[j] == Kind::wall && p.body[j] != p.body[i] &&
+              (moves(p.body[i]) || moves(p.body[j])))
+            continue;
           double r2 = 0.0;
           for (int d = 0; d < Dim; ++d) {
             const double delta = p.position[d][i] - p.position[d][j];
@@ -328,21 +334,25 @@ void set_hydrostatic_density(Particles<Dim>& p, const Case& c) {
 }
 
 template <int Dim>
+std::shared_ptr<const Solid<Dim>> box_solid(const Vec<Dim>& lower, const Vec<Dim>& upper) {
+  return make_box<Dim>(lower, upper);
+}
+
+template <int Dim>
 Setup<Dim> build_setup(const Case& c) {
   Setup<Dim> s;
   add_tank(s, c);
   const int layers = wall_layers(c);
-  for (const Region& r : c.walls) {
-    // Work in progress: the case syntax of moving walls is read; the solver does not move them yet.
-    if (r.moves())
-      throw CaseError(fmt::format("wall {} moves: moving walls are read but not yet run by this version of sluice",
-                                  r.name));
-    const auto solid = region_solid<Dim>(r);
-    solid->fill_surface_layers(c.dx, layers, [&](const Vec<Dim>& x) { s.particles.add(x, Kind::wall, c.rest_density); });
+  for (std::size_t k = 0; k < c.walls.size(); ++k) {
+    const auto solid = region_solid<Dim>(c.walls[k]);
+    const auto body = static_cast<std::uint8_t>(body_id::first_wall + k);
+    solid->fill_surface_layers(c.dx, layers, [&](const Vec<Dim>& x) { s.particles.add(x, Kind::wall, c.rest_density, body); });
     s.solids.push_back(solid);
   }
   const std::size_t placed = fill_water(s, c);
-  s.removed_near_coincident = remove_near_coincident(s.particles, 0.5 * c.dx);
+  std::vector<std::uint8_t> moving(body_id::first_wall + c.walls.size(), 0);
+  for (std::size_t k = 0; k < c.walls.size(); ++k) moving[body_id::first_wall + k] = c.walls[k].moves();
+  s.removed_near_coincident = remove_near_coincident(s.particles, 0.5 * c.dx, moving);
   // Water thinned is water the case asked for; wall points thinned (where a solid's layers meet inside
   // it) are the wall filling's own business.
   std::size_t fluid = 0;
@@ -365,7 +375,8 @@ Setup<Dim> build_setup(const Case& c) {
 #define SLUICE_INSTANTIATE(Dim)                                                      \
   template std::shared_ptr<const Solid<Dim>> region_solid<Dim>(const Region&);       \
   template Setup<Dim> build_setup<Dim>(const Case&);                                 \
-  template std::size_t remove_near_coincident<Dim>(Particles<Dim>&, double);         \
+  template std::shared_ptr<const Solid<Dim>> box_solid<Dim>(const Vec<Dim>&, const Vec<Dim>&); \
+  template std::size_t remove_near_coincident<Dim>(Particles<Dim>&, double, const std::vector<std::uint8_t>&); \
   template void set_hydrostatic_density<Dim>(Particles<Dim>&, const Case&);
 SLUICE_INSTANTIATE(2)
 SLUICE_INSTANTIATE(3)

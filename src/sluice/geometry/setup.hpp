@@ -31,14 +31,20 @@ int wall_layers(const Case& c);
 template <int Dim>
 std::shared_ptr<const Solid<Dim>> region_solid(const Region& r);
 
+// An axis-aligned box [lower, upper] as a solid (a polygon in 2D).
+template <int Dim>
+std::shared_ptr<const Solid<Dim>> box_solid(const Vec<Dim>& lower, const Vec<Dim>& upper);
+
 // Throws CaseError for a water region that holds no point of the lattice.
 template <int Dim>
 Setup<Dim> build_setup(const Case& c);
 
 // Removes one point of every pair closer than `min_distance` (the fluid one when a fluid point sits on
-// a wall point). Returns how many were removed.
+// a wall point; none of a pair of wall points of two bodies when either body moves: moving[body] != 0).
+// Returns how many were removed.
 template <int Dim>
-std::size_t remove_near_coincident(Particles<Dim>& p, double min_distance);
+std::size_t remove_near_coincident(Particles<Dim>& p, double min_distance,
+                                   const std::vector<std::uint8_t>& moving = {});
 
 // Sets each particle's density to the hydrostatic value under the water above it (gravity along the
 // up axis, the last one).

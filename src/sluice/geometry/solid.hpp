@@ -31,6 +31,9 @@ class Solid {
   // Bounding box.
   [[nodiscard]] virtual Vec<Dim> lower() const = 0;
   [[nodiscard]] virtual Vec<Dim> upper() const = 0;
+  // Whether the solid moves (MovingSolid), and the velocity of its material at x (zero at rest).
+  [[nodiscard]] virtual bool moves() const { return false; }
+  [[nodiscard]] virtual Vec<Dim> velocity_at(const Vec<Dim>& /*x*/) const { return {}; }
   // Whether the solid is its bounding box, an axis-aligned box: then the closest point to a point
   // outside it is that point clamped into [lower(), upper()].
   [[nodiscard]] virtual bool is_box() const { return false; }

@@ -17,8 +17,12 @@ WallGhosts<Dim> wall_ghosts(const Particles<Dim>& p, const Case& c) {
   Vec<Dim> inside_lo{}, inside_hi{};
   for (int d = 0; d < Dim; ++d) inside_hi[d] = size[d];
   if (!c.tank_lid) inside_hi[up] = std::numeric_limits<double>::infinity();
-  std::vector<std::shared_ptr<const Solid<Dim>>> regions;
-  for (const Region& r : c.walls) regions.push_back(region_solid<Dim>(r));
+  // The fixed walls' regions, which water cannot be in; each moving wall's shape, at the start.
+  std::vector<std::shared_ptr<const Solid<Dim>>> regions, moving(c.walls.size());
+  for (std::size_t k = 0; k < c.walls.size(); ++k) {
+    if (c.walls[k].moves()) moving[k] = region_solid<Dim>(c.walls[k]);
+    else regions.push_back(region_solid<Dim>(c.walls[k]));
+  }
   const double step = 1e-3 * c.dx;  // "just past q"
 
   auto in_tank = [&](const Vec<Dim>& x) {
@@ -49,8 +53,15 @@ WallGhosts<Dim> wall_ghosts(const Particles<Dim>& p, const Case& c) {
       const double dist = norm(q - x);
       if (dist < best && is_water_side(x, q)) best = dist, nearest = q;
     };
-    for_each_box_face_point<Dim>(inside_lo, inside_hi, x, consider);
-    for (const auto& s : regions) s->for_each_face_point(x, consider);
+    // A moving wall's particle is mirrored through its own surface only; the others' through the
+    // tank's and the fixed walls' (a moving wall passes by them).
+    const std::size_t k = p.body[i] - std::size_t{body_id::first_wall};
+    if (p.body[i] >= body_id::first_wall && k < moving.size() && moving[k]) {
+      moving[k]->for_each_face_point(x, consider);
+    } else {
+      for_each_box_face_point<Dim>(inside_lo, inside_hi, x, consider);
+      for (const auto& s : regions) s->for_each_face_point(x, consider);
+    }
     if (best == std::numeric_limits<double>::infinity()) continue;
     g.node[p.id[i]] = 2.0 * nearest - x;
     g.has[p.id[i]] = 1;

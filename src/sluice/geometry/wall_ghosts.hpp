@@ -9,7 +9,11 @@
 // particle, lies inside the tank and in no wall region. So a face covered by another solid (the
 // floor under an obstacle) does not count, and a particle in the floor next to the obstacle's foot is
 // mirrored through the corner between them. A wall particle with no such point has no ghost: it faces
-// no water.
+// no water. A moving wall (one with a motion law) covers nothing, and its own particles are mirrored
+// through its own faces only; their ghost nodes are those of the start pose, which the solver carries
+// with the body.
+//
+// `p` holds the particles as the set-up built them (walls at their start pose).
 #pragma once
 
 #include <cstdint>

@@ -146,19 +146,21 @@ void put_particles(Out& out, const Particles<Dim>& p, bool rates_carried) {
 }
 
 template <int Dim>
-Particles<Dim> get_particles(Reader& r, std::size_t n, bool rates_carried) {
+Particles<Dim> get_particles(Reader& r, std::size_t n, bool rates_carried, std::uint32_t version) {
   Particles<Dim> p;
   p.resize(n);
   const unsigned roles = stored_roles(rates_carried);
+  // Versions before 5 have no body field: the solver gives each particle its body from the case, by id.
+  const auto in_file = [&](const FieldSpec& info) { return info.has(roles) && (version >= 5 || info.name != "body"); };
   const auto stored = r.get<std::uint32_t>();
   std::uint32_t expected = 0;
-  Particles<Dim>::fields(p, [&](const FieldSpec& info, const auto&) { expected += info.has(roles); });
+  Particles<Dim>::fields(p, [&](const FieldSpec& info, const auto&) { expected += in_file(info); });
   if (stored != expected)
     r.fail(fmt::format("{} particle fields, this sluice writes {}{}", stored, expected,
                        rates_carried ? " with carried rates" : ""));
   // The fields in registry order, each named and typed as this sluice declares it.
   Particles<Dim>::fields(p, [&](const FieldSpec& info, auto& field) {
-    if (!info.has(roles)) return;
+    if (!in_file(info)) return;
     const auto length = r.get<std::uint16_t>();
     const std::string name = r.get_string(length);
     if (name != info.name) r.fail(fmt::format("field '{}' where '{}' was expected", printable(name), info.name));
@@ -337,11 +339,11 @@ Checkpoint parse_checkpoint(const std::string& bytes, const std::string& source)
                                                  ids, n, cp.clock.outflow));
   };
   if (dimension == 3) {
-    Particles<3> p = get_particles<3>(r, n, cp.clock.rates_carried);
+    Particles<3> p = get_particles<3>(r, n, cp.clock.rates_carried, version);
     check(p);
     cp.particles = std::move(p);
   } else {
-    Particles<2> p = get_particles<2>(r, n, cp.clock.rates_carried);
+    Particles<2> p = get_particles<2>(r, n, cp.clock.rates_carried, version);
     check(p);
     cp.particles = std::move(p);
   }

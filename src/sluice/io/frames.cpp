@@ -166,8 +166,16 @@ Frame frame_from_npz(const std::string& bytes, const std::string& source) {
     const auto step = array("step").values<std::int64_t>();
     if (step.size() != 1) throw FormatError("'step' is not a scalar");
     f.step = step[0];
-    for (FrameField& field : f.fields)
+    for (FrameField& field : f.fields) {
+      // Frames written before bodies have no body array: each wall particle is the tank's.
+      if (field.short_name == "body" && !arrays.contains("body")) continue;
       std::visit([&](auto& values) { read_values(array(field.short_name), values); }, field.values);
+    }
+    if (!arrays.contains("body")) {
+      std::vector<std::uint8_t>& body = f.body();
+      body.resize(f.kind().size());
+      for (std::size_t i = 0; i < body.size(); ++i) body[i] = f.kind()[i] == 0 ? body_id::water : body_id::tank;
+    }
     const auto& x_shape = array("x").shape;
     if (x_shape.size() != 2 || (x_shape[1] != 2 && x_shape[1] != 3))
       throw FormatError("'x' is not an array of 2D or 3D positions (N x 2 or N x 3)");

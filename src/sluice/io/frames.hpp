@@ -57,12 +57,15 @@ struct Frame {
   [[nodiscard]] const std::vector<double>& pressure() const { return values<double>("p"); }
   [[nodiscard]] const std::vector<std::uint8_t>& kind() const { return values<std::uint8_t>("kind"); }
   [[nodiscard]] const std::vector<std::uint32_t>& id() const { return values<std::uint32_t>("id"); }
+  // The body of each particle (core/particles.hpp, body_id: 0 water, 1 the tank, k + 2 wall k).
+  [[nodiscard]] const std::vector<std::uint8_t>& body() const { return values<std::uint8_t>("body"); }
   std::vector<double>& position() { return values<double>("x"); }
   std::vector<double>& velocity() { return values<double>("v"); }
   std::vector<double>& density() { return values<double>("rho"); }
   std::vector<double>& pressure() { return values<double>("p"); }
   std::vector<std::uint8_t>& kind() { return values<std::uint8_t>("kind"); }
   std::vector<std::uint32_t>& id() { return values<std::uint32_t>("id"); }
+  std::vector<std::uint8_t>& body() { return values<std::uint8_t>("body"); }
 };
 
 template <class T>

@@ -17,12 +17,19 @@
 // reads it). rho_w is held at rho0 or above, so that a wall never pulls water onto itself (English et
 // al. likewise).
 //
-// The wall velocity enters the viscous terms only (the continuity equation sees the walls at rest;
-// with the mirrored velocity there too, the ghost-fluid way, the obstacle case ran to its end but still
-// water settled 0.5 % denser at the floor — docs/physics.md, "Walls"). From the Shepard average
-// v_g of the fluid velocity at the ghost: no slip, v_w = -v_g (the velocity vanishes at the surface,
-// halfway between ghost and wall particle); free slip, v_w = v_g - 2 (v_g . n) n (the tangential
-// velocity carries over, the normal one is mirrored), n the unit normal along x_g - x_w.
+// The velocity this gives a wall particle enters the viscous terms only (the continuity equation sees
+// the wall move as it does, at rest or with its body: physics/wall_motion.hpp; with the mirrored
+// velocity there too, the
+// ghost-fluid way, the obstacle case ran to its end but still water settled 0.5 % denser at the floor —
+// docs/physics.md, "Walls"). From the Shepard average v_g of the fluid velocity at the ghost and the
+// wall's own velocity u (WallMotion; zero at rest): no slip, v_w = 2 u - v_g (the velocity is the
+// wall's at the surface, halfway between ghost and wall particle); free slip, v_w = u + (v_g - u) -
+// 2 ((v_g - u) . n) n (the tangential velocity relative to the wall carries over, the normal one is
+// mirrored), n the unit normal along x_g - x_w. After the rates, a wall particle's velocity is its
+// wall's own again (what frames show and the next evaluation starts from).
+//
+// The ghost nodes of a moving body's particles move with it: the solver keeps `ghosts` at the
+// current pose.
 //
 // Each wall particle is computed by one thread over its ghost's neighbours in cell order, so the
 // result does not depend on the thread count.
@@ -43,6 +50,7 @@
 #include "sluice/neighbors/cell_grid.hpp"
 #include "sluice/physics/eos.hpp"
 #include "sluice/physics/fluid_sums.hpp"
+#include "sluice/physics/wall_motion.hpp"
 
 namespace sluice {
 
@@ -104,10 +112,16 @@ struct MdbcWalls {
   static MdbcWalls of(WallGhosts<Dim> g, double mass, WallSlip slip) {
     return {std::make_shared<const WallGhosts<Dim>>(std::move(g)), mass, slip};
   }
+  // Ghost nodes that their owner (the solver) moves with the walls.
+  template <int Dim>
+  static MdbcWalls of(std::shared_ptr<const WallGhosts<Dim>> g, double mass, WallSlip slip) {
+    return {std::move(g), mass, slip};
+  }
 
   template <int Dim, class Kernel>
   void before_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const Kernel& kernel, const TaitEos& eos,
-                    const std::type_identity_t<Vec<Dim>>& gravity, int threads) const {
+                    const std::type_identity_t<Vec<Dim>>& gravity, int threads,
+                    const WallMotion<Dim>* motion = nullptr) const {
     const auto& g = *static_cast<const WallGhosts<Dim>*>(ghosts.get());
     const AnyKernel<Dim> any_kernel(kernel);
     FluidIndex fluid;
@@ -120,6 +134,7 @@ struct MdbcWalls {
       walls_reached<Dim>(p, grid, fluid, static_cast<std::uint32_t>(first), static_cast<std::uint32_t>(last), reach2,
                          reached.data());
     });
+    const bool moving_walls = motion != nullptr && motion->any;
     // Each iteration reads fluid particles and writes one wall particle: no races.
     parallel::for_each_dynamic(static_cast<long>(p.size()), threads, 256, [&](long i) {
       const auto w = static_cast<std::size_t>(i);
@@ -135,21 +150,40 @@ struct MdbcWalls {
       if (g.of(p.id[w]) && reached[w] != 0) {
         const Vec<Dim>& ghost = g.node[p.id[w]];
         r = read_ghost<Dim>(fluid_sums_at<Dim>(p, grid, any_kernel, mass, fluid, ghost), kernel.h, eos, gravity, ghost, x);
-        if (r.found && slip == WallSlip::no_slip) v = -1.0 * r.velocity;
-        if (r.found && slip == WallSlip::free_slip) {
-          const Vec<Dim> n = (1.0 / norm(ghost - x)) * (ghost - x);
-          v = r.velocity - (2.0 * dot(r.velocity, n)) * n;
+        if (moving_walls && motion->moves(p.body[w])) {
+          const Vec<Dim> u = motion->velocity(p, w);
+          v = u;
+          if (r.found && slip == WallSlip::no_slip) v = 2.0 * u - r.velocity;
+          if (r.found && slip == WallSlip::free_slip) {
+            const Vec<Dim> n = (1.0 / norm(ghost - x)) * (ghost - x);
+            const Vec<Dim> relative = r.velocity - u;
+            v = u + relative - (2.0 * dot(relative, n)) * n;
+          }
+        } else {
+          if (r.found && slip == WallSlip::no_slip) v = -1.0 * r.velocity;
+          if (r.found && slip == WallSlip::free_slip) {
+            const Vec<Dim> n = (1.0 / norm(ghost - x)) * (ghost - x);
+            v = r.velocity - (2.0 * dot(r.velocity, n)) * n;
+          }
         }
+      } else if (moving_walls) {
+        v = motion->velocity(p, w);
       }
       p.density[w] = r.found ? std::max(r.density, eos.rest_density) : eos.rest_density;
       for (int d = 0; d < Dim; ++d) p.velocity[d][w] = v[d];
     });
   }
   template <int Dim>
-  void after_rates(Particles<Dim>& p, int threads) const {
+  void after_rates(Particles<Dim>& p, int threads, const WallMotion<Dim>* motion = nullptr) const {
+    const bool moving_walls = motion != nullptr && motion->any;
     parallel::for_chunks(static_cast<long>(p.size()), threads, [&](long begin, long end) {
-      for (long i = begin; i < end; ++i)
-        if (!p.is_fluid(static_cast<std::size_t>(i))) p.density_rate[i] = 0.0;
+      for (long i = begin; i < end; ++i) {
+        const auto w = static_cast<std::size_t>(i);
+        if (p.is_fluid(w)) continue;
+        p.density_rate[w] = 0.0;
+        const Vec<Dim> u = moving_walls ? motion->velocity(p, w) : Vec<Dim>{};
+        for (int d = 0; d < Dim; ++d) p.velocity[d][w] = u[d];
+      }
     });
   }
 };

@@ -153,7 +153,8 @@ struct CellBlock {
 // rate); the output arrays are in that order.
 //
 // For a wall particle i (`WallI`), only the lanes of fluid candidates count: a wall-wall pair gives
-// nothing that is used (the walls do not move, the continuity equation sees them at rest, and
+// nothing that is used (walls are placed by their bodies' motion, not by rates; the particles of one
+// rigid body keep their distances; walls of two bodies do not compress each other's particles; and
 // density diffusion acts between fluid particles only), so vectors of wall candidates are skipped,
 // and ranges without a fluid particle (`fluid_before`, the fluid particles before each index) are
 // passed over without their distances.

@@ -2,7 +2,7 @@
 // the pressure of each wall particle w is extrapolated from the fluid particles f within its kernel
 // support,
 //   p_w = [ sum_f p_f W_wf + (g - a_w) . sum_f rho_f r_wf W_wf ] / sum_f W_wf,   r_wf = x_w - x_f,
-// with a_w = 0 (walls are fixed), and the wall density is set from the inverted Tait equation,
+// with a_w the wall's acceleration (WallMotion; zero for a fixed wall), and the wall density is set from the inverted Tait equation,
 // rho_w = rho0 (p_w / B + 1)^(1/gamma), so that the pair loop sees that pressure through P/rho^2.
 // A wall particle with no fluid neighbour gets p = 0 (rho = rho0); a negative extrapolated pressure
 // is clamped to 0 (it would pull the fluid into the wall). The wall velocity is not extrapolated
@@ -22,11 +22,13 @@
 #include "sluice/core/vec.hpp"
 #include "sluice/neighbors/cell_grid.hpp"
 #include "sluice/physics/eos.hpp"
+#include "sluice/physics/wall_motion.hpp"
 
 namespace sluice {
 
-// The extrapolated (unclamped) pressure of wall particle w; `found` tells whether it has fluid
-// neighbours within the support. Requires a grid binned on the current (sorted) particles.
+// The extrapolated (unclamped) pressure of wall particle w, `gravity` less the wall's acceleration;
+// `found` tells whether it has fluid neighbours within the support. Requires a grid binned on the
+// current (sorted) particles.
 template <int Dim, class Kernel>
 double extrapolated_wall_pressure(const Particles<Dim>& p, const CellGrid<Dim>& grid, const Kernel& kernel,
                                   const TaitEos& eos, const std::type_identity_t<Vec<Dim>>& gravity, std::size_t w,
@@ -54,21 +56,25 @@ double extrapolated_wall_pressure(const Particles<Dim>& p, const CellGrid<Dim>& 
   found = sum_w > 0.0;
   if (!found) return 0.0;
   double g_dot = 0.0;
-  for (int d = 0; d < Dim; ++d) g_dot += gravity[d] * sum_rho_r[d];  // (g - a_w), a_w = 0
+  for (int d = 0; d < Dim; ++d) g_dot += gravity[d] * sum_rho_r[d];  // (g - a_w)
   return (sum_pw + g_dot) / sum_w;
 }
 
-// Sets the density of every wall particle from its extrapolated pressure (clamped at 0). The grid
-// must be binned on the current particle order.
+// Sets the density of every wall particle from its extrapolated pressure (clamped at 0), its wall's
+// acceleration from `motion` (without it, all walls at rest). The grid must be binned on the current
+// particle order.
 template <int Dim, class Kernel>
 void extrapolate_wall_density(Particles<Dim>& p, const CellGrid<Dim>& grid, const Kernel& kernel, const TaitEos& eos,
-                              const std::type_identity_t<Vec<Dim>>& gravity, int threads) {
+                              const std::type_identity_t<Vec<Dim>>& gravity, int threads,
+                              const WallMotion<Dim>* motion = nullptr) {
   // Each iteration reads fluid densities and writes one wall density only: no races.
   parallel::for_each_dynamic(static_cast<long>(p.size()), threads, 256, [&](long i) {
     const auto w = static_cast<std::size_t>(i);
     if (p.kind[w] != Kind::wall) return;
     bool found = false;
-    const double pressure = extrapolated_wall_pressure(p, grid, kernel, eos, gravity, w, found);
+    const bool moves = motion != nullptr && motion->any && motion->moves(p.body[w]);
+    const Vec<Dim> g = moves ? gravity - motion->acceleration(p, w) : gravity;
+    const double pressure = extrapolated_wall_pressure(p, grid, kernel, eos, g, w, found);
     p.density[w] = found ? eos.density(std::max(pressure, 0.0)) : eos.rest_density;
   });
 }

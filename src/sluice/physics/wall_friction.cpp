@@ -75,7 +75,8 @@ WallFrictionResult add_wall_friction(Particles<Dim>& p, const Solids<Dim>& solid
       const double distance = norm(off);
       if (distance >= reach) continue;
       const Vec<Dim> normal = (1.0 / distance) * off;
-      const Vec<Dim> tangential = v - dot(v, normal) * normal;
+      const Vec<Dim> relative = b.moving ? v - b.solid->velocity_at(x) : v;  // relative to the wall
+      const Vec<Dim> tangential = relative - dot(relative, normal) * normal;
       const double u = norm(tangential);
       if (!(u > 0.0)) continue;
       const double y = std::max(distance, y_least);

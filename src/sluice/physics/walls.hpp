@@ -22,30 +22,34 @@ namespace sluice {
 
 // Dynamic boundary particles (Crespo et al. 2007): wall particles obey the continuity equation like
 // the fluid, their density (so pressure) rises as the fluid approaches, and fluid-wall pairs feel the
-// artificial viscosity like fluid-fluid pairs. The walls do not move.
+// artificial viscosity like fluid-fluid pairs. A wall particle's velocity is its wall's own (zero at
+// rest, or as its body moves: the solver sets it), which the viscosity sees, and the continuity
+// equation through add_moving_wall_continuity (physics/wall_motion.hpp).
 struct DynamicWalls {
   static constexpr bool fluid_wall_viscosity = true;
 
   template <int Dim, class Kernel>
   void before_rates(Particles<Dim>&, const CellGrid<Dim>&, const Kernel&, const TaitEos&,
-                    const std::type_identity_t<Vec<Dim>>&, int) const {}
+                    const std::type_identity_t<Vec<Dim>>&, int, const WallMotion<Dim>* = nullptr) const {}
   template <int Dim>
-  void after_rates(Particles<Dim>&, int) const {}
+  void after_rates(Particles<Dim>&, int, const WallMotion<Dim>* = nullptr) const {}
 };
 
 // Adami, Hu & Adams (2012) generalized walls: the wall density is set from the pressure extrapolated
 // from the fluid (physics/wall_boundary.hpp) just before the pair loop, and not integrated (its rate
-// is zeroed); free slip, so no artificial viscosity between fluid and wall.
+// is zeroed); free slip, so no artificial viscosity between fluid and wall. A moving wall's
+// acceleration enters the extrapolation; its velocity, the continuity equation (wall_motion.hpp).
 struct AdamiWalls {
   static constexpr bool fluid_wall_viscosity = false;
 
   template <int Dim, class Kernel>
   void before_rates(Particles<Dim>& p, const CellGrid<Dim>& grid, const Kernel& kernel, const TaitEos& eos,
-                    const std::type_identity_t<Vec<Dim>>& gravity, int threads) const {
-    extrapolate_wall_density(p, grid, kernel, eos, gravity, threads);
+                    const std::type_identity_t<Vec<Dim>>& gravity, int threads,
+                    const WallMotion<Dim>* motion = nullptr) const {
+    extrapolate_wall_density(p, grid, kernel, eos, gravity, threads, motion);
   }
   template <int Dim>
-  void after_rates(Particles<Dim>& p, int threads) const {
+  void after_rates(Particles<Dim>& p, int threads, const WallMotion<Dim>* = nullptr) const {
     parallel::for_chunks(static_cast<long>(p.size()), threads, [&](long begin, long end) {
       for (long i = begin; i < end; ++i)
         if (!p.is_fluid(static_cast<std::size_t>(i))) p.density_rate[i] = 0.0;

@@ -14,8 +14,10 @@
 #include "sluice/core/particles.hpp"
 #include "sluice/core/reduce.hpp"
 #include "sluice/geometry/leaks.hpp"
+#include "sluice/geometry/wall_ghosts.hpp"
 #include "sluice/geometry/solid.hpp"
 #include "sluice/neighbors/cell_grid.hpp"
+#include "sluice/solver/bodies.hpp"
 #include "sluice/solver/distribution.hpp"
 #include "sluice/physics/density_gradient.hpp"
 #include "sluice/physics/kernel.hpp"
@@ -121,6 +123,8 @@ class Solver {
   [[nodiscard]] const Clock& clock() const { return clock_; }
   [[nodiscard]] const Case& config() const { return case_; }
   [[nodiscard]] const Solids<Dim>& solids() const { return solids_; }
+  // The tank and the walls as bodies, the moving ones at the current time.
+  [[nodiscard]] const Bodies<Dim>& bodies() const { return bodies_; }
   [[nodiscard]] const KernelVariant& kernel() const { return kernel_; }
   [[nodiscard]] double particle_mass() const { return settings_.mass; }
   [[nodiscard]] double smoothing_length() const { return settings_.h; }
@@ -195,7 +199,12 @@ class Solver {
   [[nodiscard]] bool has_saved_state() const { return has_saved_state_; }
 
  private:
-  void init(const Case& c);
+  // `built`: the particles as the case's set-up made them (the walls at their start pose).
+  void init(const Case& c, const Particles<Dim>& built);
+  // Moves the moving walls to time t: their bodies' states and solids, their particles' positions and
+  // velocities, mDBC's ghost nodes. The one place where walls move; every integrator calls it when
+  // its particles reach a stage's time.
+  void advance_walls(double t);
   // With several processes: the decomposition, and this process's share of the full set of particles.
   void distribute(const Communicator* comm);
   // Drops the ghosts of the last evaluation (several processes), with their cells in the grid.
@@ -214,6 +223,8 @@ class Solver {
   struct StepSize {
     double dt;
     bool reaches_limit;
+    // The time at the step's end, from its start: exactly the limit when it reaches it.
+    [[nodiscard]] double end(double start, double time_limit) const { return reaches_limit ? time_limit : start + dt; }
   };
   StepSize step_size(const RateSummary& r, double time_limit) const;
   // After the update: the particle shift, the put-back of leaked particles, the outflow, the clock.
@@ -227,6 +238,11 @@ class Solver {
   Case case_;
   Particles<Dim> particles_;
   Solids<Dim> solids_;
+  Bodies<Dim> bodies_;
+  // mDBC with moving walls: the ghost nodes, those of moving bodies' particles carried to the current
+  // pose from their start (ghost_start_, by id) by advance_walls.
+  std::shared_ptr<WallGhosts<Dim>> ghosts_;
+  std::vector<Vec<Dim>> ghost_start_;
   SolidReach<Dim> solid_reach_;  // where the leak checks can skip the water
   SolidReach<Dim> friction_reach_;  // where the wall friction can skip the water (reach 2h)
   WallFrictionSettings friction_{};

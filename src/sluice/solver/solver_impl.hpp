@@ -24,21 +24,24 @@ namespace sluice {
 template <int Dim>
 Solver<Dim>::Solver(const Case& c, int threads, const Communicator* comm) : threads_(std::max(1, threads)) {
   Setup<Dim> s = build_setup<Dim>(c);
+  bodies_ = Bodies<Dim>(c, s.particles, s.solids);
+  bodies_.check_inside_tank(c.end_time, c.tank_size(), c.tank_lid);
   particles_ = std::move(s.particles);
   particles_.resize(particles_.size());  // size the rate and step-start fields
   solids_ = std::move(s.solids);
   removed_near_coincident_ = s.removed_near_coincident;
   setup_notes_ = std::move(s.notes);
-  init(c);
+  init(c, particles_);
   distribute(comm);
 }
 
 // A saved state must be one its case made: as many particles as the case builds (less those removed
-// as outflow), each of the kind the case gave it, and the walls where the case puts them (walls do not
-// move). A state saved with another dx, tank or wall would otherwise run as if it were the case's.
+// as outflow), each of the kind the case gave it, and the walls where the case puts them (a moving
+// wall where its motion has taken it at the saved time: `bodies` at that time). A state saved with
+// another dx, tank or wall would otherwise run as if it were the case's.
 template <int Dim>
 void check_saved_particles_match(const Particles<Dim>& built, const Particles<Dim>& saved, std::int64_t outflow,
-                                 const Case& c) {
+                                 const Case& c, const Bodies<Dim>& bodies) {
   const std::size_t expected = built.size();
   if (saved.size() + static_cast<std::size_t>(outflow) != expected)
     throw CaseError(fmt::format(
@@ -56,13 +59,17 @@ void check_saved_particles_match(const Particles<Dim>& built, const Particles<Di
                                   id, saved.is_fluid(i) ? "water" : "a wall particle",
                                   built.is_fluid(id) ? "water" : "a wall particle"));
     if (saved.is_fluid(i)) continue;
+    Vec<Dim> expected_at{};
+    for (int d = 0; d < Dim; ++d) expected_at[d] = built.position[d][id];
+    const std::uint8_t body = built.body[id];
+    if (bodies.motion().moves(body)) expected_at = bodies.carried(body, expected_at);
     double off = 0.0;
-    for (int d = 0; d < Dim; ++d) off = std::max(off, std::abs(saved.position[d][i] - built.position[d][id]));
+    for (int d = 0; d < Dim; ++d) off = std::max(off, std::abs(saved.position[d][i] - expected_at[d]));
     if (!(off <= tolerance)) {
       std::string at, where;
       for (int d = 0; d < Dim; ++d) {
         at += fmt::format("{}{:.6g}", d ? ", " : "", saved.position[d][i]);
-        where += fmt::format("{}{:.6g}", d ? ", " : "", built.position[d][id]);
+        where += fmt::format("{}{:.6g}", d ? ", " : "", expected_at[d]);
       }
       throw CaseError(fmt::format("wall particle id {} is at ({}) m, where its case (domain.dx = {} m) puts it at "
                                   "({}) m: the particles were not made by the case stored with them",
@@ -77,9 +84,13 @@ Solver<Dim>::Solver(const Case& c, Particles<Dim> particles, Clock clock, int th
   // The wall geometry is rebuilt from the case; the particles come from the saved state, which must
   // be one the case made.
   Setup<Dim> built = build_setup<Dim>(c);
-  check_saved_particles_match(built.particles, particles_, clock_.outflow, c);
+  bodies_ = Bodies<Dim>(c, built.particles, built.solids);
+  bodies_.set_time(clock_.time);
+  check_saved_particles_match(built.particles, particles_, clock_.outflow, c, bodies_);
+  // A particle's body is its case's (a checkpoint before format 5 has none).
+  for (std::size_t i = 0; i < particles_.size(); ++i) particles_.body[i] = built.particles.body[particles_.id[i]];
   solids_ = std::move(built.solids);
-  init(c);
+  init(c, built.particles);
   distribute(comm);
 }
 
@@ -111,7 +122,7 @@ void Solver<Dim>::strip_ghosts() {
 }
 
 template <int Dim>
-void Solver<Dim>::init(const Case& c) {
+void Solver<Dim>::init(const Case& c, const Particles<Dim>& built) {
   case_ = c;
   // Only the leapfrog carries rates from one step into the next, and only it uses the rates at a
   // step's start: the other integrators do not keep their memory.
@@ -140,9 +151,19 @@ void Solver<Dim>::init(const Case& c) {
   shifting_sums_.spacing = c.dx;
   shifting_sums_.volume = settings_.mass / c.rest_density;
   if (c.wall_boundary == WallBoundary::adami) walls_ = AdamiWalls{};
-  else if (c.wall_boundary == WallBoundary::mdbc) walls_ = MdbcWalls::of(wall_ghosts(particles_, c), settings_.mass, c.wall_slip);
-  else walls_ = DynamicWalls{};
-  // The grid covers the tank and its walls with a margin; strays are clamped into edge cells.
+  else if (c.wall_boundary == WallBoundary::mdbc) {
+    if (bodies_.any_moving()) {
+      ghosts_ = std::make_shared<WallGhosts<Dim>>(wall_ghosts(built, c));
+      ghost_start_ = ghosts_->node;
+      walls_ = MdbcWalls::of(std::shared_ptr<const WallGhosts<Dim>>(ghosts_), settings_.mass, c.wall_slip);
+    } else {
+      walls_ = MdbcWalls::of(wall_ghosts(built, c), settings_.mass, c.wall_slip);
+    }
+  } else {
+    walls_ = DynamicWalls{};
+  }
+  // The grid covers the tank and its walls with a margin, and wherever a moving wall goes; strays are
+  // clamped into edge cells.
   const int layers = wall_layers(c);
   const double margin = (layers + 2) * c.dx + 2.0 * h;
   const Vec3 size = c.tank_size();
@@ -151,15 +172,44 @@ void Solver<Dim>::init(const Case& c) {
     lower[d] = -margin;
     upper[d] = size[d] + margin;
   }
+  // A moving wall's reach: the box it sweeps over the run, in place of its shape.
+  const Solids<Dim> swept = bodies_.swept(c.end_time, 2.0 * h);
+  Solids<Dim> reach_solids;
+  for (const auto& solid : solids_)
+    if (!dynamic_cast<const MovingSolid<Dim>*>(solid.get())) reach_solids.push_back(solid);
+  for (const auto& box : swept) {
+    reach_solids.push_back(box);
+    for (int d = 0; d < Dim; ++d) {
+      lower[d] = std::min(lower[d], box->lower()[d]);
+      upper[d] = std::max(upper[d], box->upper()[d]);
+    }
+  }
   grid_ = CellGrid<Dim>(lower, upper, 2.0 * h);
   // The leak and wall-approach checks skip the water away from the walls (the wall-approach band is
   // dx/4 wide).
-  solid_reach_ = SolidReach<Dim>(solids_, lower, upper, 2.0 * h, 0.25 * c.dx);
+  solid_reach_ = SolidReach<Dim>(reach_solids, lower, upper, 2.0 * h, 0.25 * c.dx);
   if (wall_friction_in_effect(c) == WallFriction::log_law) {
     friction_ = WallFrictionSettings{c.viscosity / c.rest_density, h, c.dx};
-    friction_reach_ = SolidReach<Dim>(solids_, lower, upper, 2.0 * h, 2.0 * h);
+    friction_reach_ = SolidReach<Dim>(reach_solids, lower, upper, 2.0 * h, 2.0 * h);
   }
   for (int d = 0; d < Dim; ++d) pair_origin_[d] = 0.5 * size[d];
+  advance_walls(clock_.time);
+}
+
+template <int Dim>
+void Solver<Dim>::advance_walls(double t) {
+  if (!bodies_.any_moving()) return;
+  bodies_.set_time(t);
+  bodies_.place(particles_, threads_);
+  if (ghosts_) {
+    for (const auto& body : bodies_.list()) {
+      if (!body.moves) continue;
+      for (std::size_t k = 0; k < body.start.size(); ++k) {
+        const std::size_t id = body.first_id + k;
+        if (ghosts_->has[id]) ghosts_->node[id] = bodies_.carried(body.id, ghost_start_[id]);
+      }
+    }
+  }
 }
 
 template <int Dim>
@@ -205,7 +255,7 @@ RateSummary Solver<Dim>::evaluate(bool shepard_due, unsigned also_moved, bool la
     if (dist) dist->refresh(particles_, {"density"});
   }
   std::visit([&](const auto& walls, const auto& kernel) {
-    walls.before_rates(particles_, grid_, kernel, settings_.eos, settings_.gravity, pair_threads);
+    walls.before_rates(particles_, grid_, kernel, settings_.eos, settings_.gravity, pair_threads, &bodies_.motion());
   }, walls_, kernel_);
   if (dist && !std::holds_alternative<DynamicWalls>(walls_)) dist->refresh(particles_, {"density", "velocity"});
   terms_.compute(particles_, settings_.eos, settings_.gravity, threads_, settings_.artificial_pressure,
@@ -217,6 +267,7 @@ RateSummary Solver<Dim>::evaluate(bool shepard_due, unsigned also_moved, bool la
       for (auto& g : rho_gradient_.gradient()) dist->refresh(g);
     terms_.set_rho_gradient(rho_gradient_.gradient(), threads_);
   }
+
   RateSummary summary = compute_rates(particles_, grid_, kernel_, walls_, settings_, terms_, pair_threads);
   if (wall_friction_in_effect(case_) == WallFriction::log_law) {
     const WallFrictionResult friction = add_wall_friction(particles_, solids_, friction_, threads_, &friction_reach_,
@@ -236,7 +287,11 @@ RateSummary Solver<Dim>::evaluate(bool shepard_due, unsigned also_moved, bool la
     }
     summary.max_acceleration = std::sqrt(max_a2);
   }
-  std::visit([&](const auto& walls) { walls.after_rates(particles_, threads_); }, walls_);
+  if (bodies_.any_moving())
+    std::visit([&](const auto& kernel) {
+      add_moving_wall_continuity(particles_, grid_, kernel, settings_.mass, bodies_.motion(), pair_threads);
+    }, kernel_);
+  std::visit([&](const auto& walls) { walls.after_rates(particles_, threads_, &bodies_.motion()); }, walls_);
   if (last && shifting_.coefficient > 0.0) {
     std::function<void(std::vector<double>&)> refresh;
     if (dist) refresh = [dist](std::vector<double>& divergence) { dist->refresh(divergence); };
@@ -291,6 +346,7 @@ void Solver<Dim>::step(double time_limit) {
   if (case_.integrator == Integrator::predictor_corrector) {
     stop_wall_approach_before_drift(nullptr, 0.0);
     predictor_update(particles_, dt, floor, threads_);
+    advance_walls(clock_.time + 0.5 * dt);
     has_saved_state_ = true;
     evaluate(false, field_role::step_start, true);
     stop_wall_approach_before_drift(nullptr, 0.0);
@@ -303,6 +359,7 @@ void Solver<Dim>::step(double time_limit) {
     stop_wall_approach_before_drift(nullptr, 0.0);
     euler_update(particles_, dt, floor, threads_);
   }
+  advance_walls(size.end(clock_.time, time_limit));
   finish_step(size, time_limit);
 }
 
@@ -329,6 +386,7 @@ void Solver<Dim>::leapfrog_step(double time_limit, bool shepard_due) {
   std::swap(p.density_rate, p.density_rate_start);
   stop_wall_approach_before_drift(&p.acceleration_start, 0.5 * dt);
   leapfrog_kick_drift(p, dt, floor, threads_);
+  advance_walls(size.end(clock_.time, time_limit));
   has_saved_state_ = true;
   clock_.rates = global(evaluate(shepard_due, field_role::step_start | field_role::rates_start, true));
   leapfrog_final_kick(p, dt, floor, threads_);
@@ -359,7 +417,7 @@ void Solver<Dim>::finish_step(const StepSize& size, double time_limit) {
   // A put-back particle moved (and its density is repaired at the next evaluation): the carried
   // rates are no longer those of the state. Every process decides alike.
   if (clock_.rates_carried && reducer_->sum(leaked) > 0) clock_.rates_carried = false;
-  clock_.time = size.reaches_limit ? time_limit : clock_.time + dt;
+  clock_.time = size.end(clock_.time, time_limit);
   clock_.last_dt = dt;
   ++clock_.step;
 }
@@ -467,7 +525,10 @@ Health Solver<Dim>::check_health(std::size_t max_reported) const {
   // a velocity that is not finite its bound.
   auto healthy = [&](std::size_t i) {
     const double rho = p.density[i];
-    bool ok = (rho > 0.5 * rho0) & (rho < 2.0 * rho0) & in_reach(i, r);
+    // A wall particle is where its wall is (a moving one may rise out of an open tank): finite is enough.
+    bool placed = !p.is_fluid(i);
+    for (int d = 0; d < Dim; ++d) placed = placed & (std::abs(p.position[d][i]) <= kLargest);
+    bool ok = (rho > 0.5 * rho0) & (rho < 2.0 * rho0) & (in_reach(i, r) | placed);
     for (int d = 0; d < Dim; ++d) ok = ok & (std::abs(p.velocity[d][i]) <= kLargest);
     return ok;
   };
@@ -475,7 +536,7 @@ Health Solver<Dim>::check_health(std::size_t max_reported) const {
     bool finite = std::isfinite(p.density[i]);
     for (int d = 0; d < Dim; ++d) finite = finite && std::isfinite(p.position[d][i]) && std::isfinite(p.velocity[d][i]);
     if (!finite) return "not finite";
-    if (!in_reach(i, r)) return "far outside the tank";
+    if (!in_reach(i, r) && p.is_fluid(i)) return "far outside the tank";
     const double rho = p.density[i];
     if (!(rho > 0.5 * rho0 && rho < 2.0 * rho0)) return "density outside (0.5, 2) rho0";
     return nullptr;
@@ -539,6 +600,7 @@ void Solver<Dim>::restore_saved_state() {
   const std::int64_t outflow = clock_.outflow;
   clock_ = saved_clock_;
   clock_.outflow = outflow;
+  advance_walls(clock_.time);  // the walls' bodies and solids (their particles were restored above)
 }
 
 }  // namespace sluice

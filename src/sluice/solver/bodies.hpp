@@ -1,0 +1,201 @@
+// The bodies of a run and the walls that move. Body 1 is the tank's own walls, body k + 2 the case's
+// [[wall]] number k (core/particles.hpp, body_id); a wall with a translation or rotation law moves as
+// its RigidMotion (case/motions.hpp) says. Each moving body keeps its particles' positions at the start
+// pose, by id, and places them at any time from those: a particle's position at time t is a function
+// of t alone (no sum of small steps), so a restart, another thread count or another process count
+// places it to the same bits. Its shape is a MovingSolid, so that the leak put-back, the wall-approach
+// stop and the wall friction see it where it is.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "sluice/case/case.hpp"
+#include "sluice/case/case_error.hpp"
+#include "sluice/case/rigid_motion.hpp"
+#include "sluice/core/parallel.hpp"
+#include "sluice/core/particles.hpp"
+#include "sluice/geometry/setup.hpp"
+#include "sluice/geometry/motion.hpp"
+#include "sluice/geometry/moving_solid.hpp"
+#include "sluice/geometry/solid.hpp"
+#include "sluice/physics/wall_motion.hpp"
+
+namespace sluice {
+
+template <int Dim>
+class Bodies {
+ public:
+  struct Body {
+    std::string name;
+    std::uint8_t id = 0;
+    bool moves = false;
+    RigidMotion<Dim> motion;                      // when it moves
+    std::shared_ptr<MovingSolid<Dim>> solid;      // when it moves: its shape at the current pose
+    std::uint32_t first_id = 0;                   // its particles' ids run from first_id, contiguous
+    std::vector<Vec<Dim>> start;                  // when it moves: their positions at the start pose
+  };
+
+  Bodies() = default;
+
+  // `built`: the particles the case's set-up made (ids 0..n-1, in that order); `solids`: its solids,
+  // the walls' the last c.walls.size() of them, in order. A moving wall's solid is replaced there by
+  // its MovingSolid.
+  Bodies(const Case& c, const Particles<Dim>& built, Solids<Dim>& solids) {
+    const std::size_t walls = c.walls.size();
+    bodies_.resize(body_id::first_wall + walls);
+    bodies_[body_id::water].name = "water";
+    bodies_[body_id::tank].name = "tank";
+    for (std::size_t b = 0; b < bodies_.size(); ++b) bodies_[b].id = static_cast<std::uint8_t>(b);
+    motion_.moving.assign(bodies_.size(), 0);
+    motion_.state.assign(bodies_.size(), BodyState<Dim>{});
+    motion_.lower.assign(bodies_.size(), Vec<Dim>{});
+    motion_.upper.assign(bodies_.size(), Vec<Dim>{});
+    for (std::size_t k = 0; k < walls; ++k) {
+      Body& body = bodies_[body_id::first_wall + k];
+      const Region& wall = c.walls[k];
+      body.name = wall.name;
+      if (!wall.moves()) continue;
+      body.moves = true;
+      body.motion = rigid_motion_of<Dim>(wall);
+      std::shared_ptr<const Solid<Dim>>& shape = solids[solids.size() - walls + k];
+      body.solid = std::make_shared<MovingSolid<Dim>>(shape);
+      shape = body.solid;
+      motion_.moving[body.id] = 1;
+      motion_.any = true;
+    }
+    if (!motion_.any) return;
+    // The start positions of each moving body's particles, whose ids the set-up gave in one run.
+    std::vector<std::uint8_t> seen(bodies_.size(), 0);
+    for (std::size_t i = 0; i < built.size(); ++i) {
+      Body& body = bodies_[built.body[i]];
+      if (!body.moves) continue;
+      if (!seen[body.id]) body.first_id = built.id[i], seen[body.id] = 1;
+      if (built.id[i] != body.first_id + body.start.size())
+        throw std::logic_error("Bodies: a moving body's particles are not numbered in one run");
+      Vec<Dim> x{};
+      for (int d = 0; d < Dim; ++d) x[d] = built.position[d][i];
+      body.start.push_back(x);
+    }
+  }
+
+  [[nodiscard]] bool any_moving() const { return motion_.any; }
+  [[nodiscard]] const WallMotion<Dim>& motion() const { return motion_; }
+  [[nodiscard]] const std::vector<Body>& list() const { return bodies_; }
+  [[nodiscard]] double time() const { return time_; }
+
+  // The moving bodies' states at time t, and their solids' poses.
+  void set_time(double t) {
+    time_ = t;
+    for (Body& body : bodies_) {
+      if (!body.moves) continue;
+      motion_.state[body.id] = body_state<Dim>(body.motion, t);
+      body.solid->set_state(motion_.state[body.id]);
+      motion_.lower[body.id] = body.solid->lower();
+      motion_.upper[body.id] = body.solid->upper();
+    }
+  }
+
+  // Where the body point that was at `start` is now.
+  [[nodiscard]] Vec<Dim> carried(std::uint8_t body, const Vec<Dim>& start) const {
+    return point_motion<Dim>(motion_.state[body], start).position;
+  }
+  // A moving body's particle's position at the start pose.
+  [[nodiscard]] const Vec<Dim>& start_position(std::uint8_t body, std::uint32_t id) const {
+    const Body& b = bodies_[body];
+    return b.start[id - b.first_id];
+  }
+
+  // The positions and velocities of the moving bodies' particles among p, at the current time.
+  void place(Particles<Dim>& p, int threads) const {
+    if (!motion_.any) return;
+    parallel::for_chunks(static_cast<long>(p.size()), threads, [&](long begin, long end) {
+      for (long i = begin; i < end; ++i) {
+        const std::uint8_t b = p.body[i];
+        if (!motion_.moves(b)) continue;
+        const PointMotion<Dim> m = point_motion<Dim>(motion_.state[b], start_position(b, p.id[i]));
+        for (int d = 0; d < Dim; ++d) {
+          p.position[d][i] = m.position[d];
+          p.velocity[d][i] = m.velocity[d];
+        }
+      }
+    });
+  }
+
+  // Throws CaseError if a moving body's shape leaves the tank's inside at a time up to `end` (found
+  // by sampling its bounds at 2000 times): through the floor, a side wall, or the lid (over an open
+  // tank it may rise). `size`: the tank's inside.
+  void check_inside_tank(double end, const Vec3& size, bool lid) const {
+    constexpr int samples = 2000;
+    constexpr int up = Dim - 1;
+    for (const Body& body : bodies_) {
+      if (!body.moves) continue;
+      MovingSolid<Dim> solid(std::shared_ptr<const Solid<Dim>>(body.solid, &body.solid->shape()));
+      for (int s = 0; s <= samples; ++s) {
+        const double t = end * s / samples;
+        solid.set_state(body_state<Dim>(body.motion, t));
+        const Vec<Dim> lo = solid.lower(), hi = solid.upper();
+        const double slack = 1e-9 * (1.0 + size[0]);
+        for (int d = 0; d < Dim; ++d) {
+          const bool below = lo[d] < -slack, above = hi[d] > size[d] + slack && (d != up || lid);
+          if (!below && !above) continue;
+          const char* side = d == up ? (below ? "through the floor" : "through the lid (tank.lid = true)")
+                                     : (below ? "through the wall at the low end of " : "through the wall at the high end of ");
+          throw CaseError(fmt::format(
+              "wall {} ({}) leaves the tank {}{} at t = {:.4g} s (its bounds reach {} = {:.4g} m, the tank's inside "
+              "spans 0 to {:.4g} m): a moving wall must stay inside the tank until time.end = {:.4g} s{}",
+              body.id - body_id::first_wall + 1, body.name, side, d == up ? "" : std::string(1, "xyz"[d]), t,
+              "xyz"[d], below ? lo[d] : hi[d], size[d], end,
+              d == up && !below ? "; an open tank (tank.lid = false) lets it rise out of the water" : ""));
+        }
+      }
+    }
+  }
+
+  // Boxes that hold everything each moving body's shape covers over [0, end] (sampled, and grown by
+  // the most a sample's bounds moved from the one before plus `margin`): where the leak and friction
+  // checks must look, and where the cell grid must reach.
+  [[nodiscard]] Solids<Dim> swept(double end, double margin) const {
+    Solids<Dim> boxes;
+    constexpr int samples = 2000;
+    for (const Body& body : bodies_) {
+      if (!body.moves) continue;
+      MovingSolid<Dim> solid(std::shared_ptr<const Solid<Dim>>(body.solid, &body.solid->shape()));
+      Vec<Dim> lo{}, hi{}, last_lo{}, last_hi{};
+      double jump = 0.0;
+      for (int s = 0; s <= samples; ++s) {
+        solid.set_state(body_state<Dim>(body.motion, end * s / samples));
+        const Vec<Dim> l = solid.lower(), u = solid.upper();
+        for (int d = 0; d < Dim; ++d) {
+          if (s > 0) jump = std::max({jump, std::abs(l[d] - last_lo[d]), std::abs(u[d] - last_hi[d])});
+          lo[d] = s == 0 ? l[d] : std::min(lo[d], l[d]);
+          hi[d] = s == 0 ? u[d] : std::max(hi[d], u[d]);
+        }
+        last_lo = l;
+        last_hi = u;
+      }
+      for (int d = 0; d < Dim; ++d) {
+        lo[d] -= jump + margin;
+        hi[d] += jump + margin;
+      }
+      boxes.push_back(box_solid<Dim>(lo, hi));
+    }
+    return boxes;
+  }
+
+ private:
+
+  std::vector<Body> bodies_;
+  WallMotion<Dim> motion_;
+  double time_ = 0.0;
+};
+
+}  // namespace sluice
