@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """`mpirun -np N sluice run` (Open MPI, N = 2, 3, 4 on one machine): the same outputs, in the same form,
-as one process, with the particles where one process puts them to round-off; a checkpoint written by 3
+as one process, with the particles where one process puts them to round-off (also with a moving wall); a checkpoint written by 3
 processes restarts on 2 and on 1; a failure stops every process with one message and no hang."""
 
 import glob
@@ -109,6 +109,21 @@ def test_checkpoint_of_three_processes_restarts_on_two_and_on_one():
         check(worst < POSITION_TOLERANCE, f"restart on {processes}: positions differ by {worst} m")
 
 
+def test_a_moving_gate_across_the_processes_matches_one_process():
+    # gate_dam_break, coarsened: its gate rises through every process's region, and its particles and
+    # ghost nodes cross from one process to another.
+    gate = ["gate_dam_break", "--set", "domain.dx=0.01", "--set", "time.end=0.15", "--set", "output.interval=0.05"]
+    reference = os.path.join(W, "gate_serial")
+    run(args.sluice, *gate, "-o", reference)
+    for processes in (2, 3):
+        d = os.path.join(W, f"gate_np{processes}")
+        mpirun(processes, *gate, "-o", d)
+        worst = largest_difference(reference, d, f"moving gate, {processes} processes vs 1")
+        print(f"  moving gate, {processes} processes: largest position difference from one process {worst:.3g} m",
+              flush=True)
+        check(worst < POSITION_TOLERANCE, f"moving gate, {processes} processes: positions differ by {worst} m")
+
+
 def test_an_output_error_stops_every_process_with_one_message():
     blocker = os.path.join(W, "a_file")
     with open(blocker, "w") as f:
@@ -190,6 +205,7 @@ def _name(stat_path):
 
 main([test_frames_probes_and_diagnostics_match_one_process, test_two_processes_of_two_threads_match_one_process,
       test_checkpoint_of_three_processes_restarts_on_two_and_on_one,
+      test_a_moving_gate_across_the_processes_matches_one_process,
       test_an_output_error_stops_every_process_with_one_message,
       test_an_unstable_run_stops_every_process_and_keeps_the_last_good_state,
       test_a_process_out_of_memory_stops_every_process_with_its_message,
