@@ -171,6 +171,7 @@ struct Case {
   double checkpoint_interval = 0.0;         // 0 = only at the end
   int max_frames = 10000;                   // a run planning more frames is refused (a mistyped interval)
   double checkpoint_wall_interval = 20.0;   // wall-clock seconds between checkpoints while running; 0 = none
+  double bodies_interval = 0.0;             // simulated time between rows of bodies/<name>.csv; 0 = every step
 
   std::vector<Region> water;
   std::vector<Region> walls;

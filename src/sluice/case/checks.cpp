@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-#include "sluice/core/particles.hpp"
+#include "sluice/core/body_id.hpp"
 
 #include "sluice/case/case_error.hpp"
 #include "sluice/case/value_text.hpp"

@@ -223,6 +223,9 @@ const std::vector<Param<Case>>& case_params() {
               "Wall-clock time between the checkpoints a run writes as it goes (each replaces the last), so that a "
               "run that is killed can be restarted from at most this long ago; 0 = none. Stretched to 50 times "
               "the time a checkpoint takes to write, so that they cost at most 2 % of the run."),
+      declare("output.bodies_interval", &Case::bodies_interval, "s", 0.0, 0.0, inf,
+              "Simulated time between the rows of bodies/<name>.csv, the series of each moving wall (its "
+              "position, angle, velocity, and the force and moment of the water on it); 0 = every step."),
   };
   return params;
 }

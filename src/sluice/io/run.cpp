@@ -23,6 +23,7 @@
 #include "sluice/io/directory_lock.hpp"
 #include "sluice/io/frames.hpp"
 #include "sluice/io/npz.hpp"
+#include "sluice/io/bodies.hpp"
 #include "sluice/io/probes.hpp"
 #include "sluice/physics/simd_target.hpp"
 
@@ -96,7 +97,7 @@ void remove_previous_outputs(const std::filesystem::path& dir, const std::string
   for (const char* name : {output_files::diagnostics, output_files::checkpoint, output_files::summary})
     fs::remove(dir / name, ec);
   fs::remove(dir / (case_name + ".pvd"), ec);
-  for (const char* sub : {output_files::frames_dir, output_files::probes_dir}) {
+  for (const char* sub : {output_files::frames_dir, output_files::probes_dir, output_files::bodies_dir}) {
     if (!fs::is_directory(dir / sub, ec)) continue;
     for (const auto& entry : fs::directory_iterator(dir / sub, ec)) {
       const auto ext = entry.path().extension();
@@ -114,7 +115,8 @@ class Outputs {
         write_npz_(sim.config().writes("npz")), write_vtk_(sim.config().writes("vtk")), comm_(comm),
         root_(sim.is_root()), diagnostics_(dir_ / output_files::diagnostics, diagnostics_header),
         pvd_(dir_ / (sim.config().name + ".pvd"), pvd_header(), pvd_footer()),
-        probes_(sim.config().probes, sim.dimension(), dir_ / output_files::probes_dir, sim.time(), fresh, root_) {
+        probes_(sim.config().probes, sim.dimension(), dir_ / output_files::probes_dir, sim.time(), fresh, root_),
+        bodies_(sim, dir_ / output_files::bodies_dir, sim.config().bodies_interval, sim.time(), fresh, root_) {
     on_root(comm_, [&] {
       create_directories_or_throw(dir_ / output_files::frames_dir);
       if (!fresh) keep_until_checkpoint(sim.time());
@@ -145,11 +147,15 @@ class Outputs {
       }
       diagnostics_.append(diagnostics_row(diagnostics, wall_before_ + wall_seconds));
       probes_.flush();
+      bodies_.flush();
     });
     ++frames_written_;
   }
 
-  void sample_probes(const Simulation& sim) { probes_.sample(sim); }
+  void sample_probes(const Simulation& sim) {
+    probes_.sample(sim);
+    bodies_.sample(sim);
+  }
 
   void write_checkpoint_file(const Simulation& sim, double wall_seconds) {
     // What a restart keeps (probe samples, diagnostics rows and .pvd entries up to the checkpoint) is
@@ -160,6 +166,8 @@ class Outputs {
     on_root(comm_, [&] {
       probes_.flush();
       probes_.sync();
+      bodies_.flush();
+      bodies_.sync();
       diagnostics_.sync();
       pvd_.sync();
       file.emplace(dir_ / output_files::checkpoint);
@@ -222,6 +230,7 @@ class Outputs {
   AppendFile diagnostics_;
   AppendFile pvd_;
   ProbeRecorder probes_;
+  BodyRecorder bodies_;
   int frames_written_ = 0;
 };
 
@@ -482,7 +491,7 @@ void check_room(const std::filesystem::path& dir, double bytes, const Simulation
 
 void prepare_output_dir(const std::filesystem::path& dir, const std::string& case_name, bool fresh) {
   create_directories_or_throw(dir);
-  for (const char* sub : {".", output_files::frames_dir, output_files::probes_dir})
+  for (const char* sub : {".", output_files::frames_dir, output_files::probes_dir, output_files::bodies_dir})
     remove_stale_temp_files(dir / sub);
   if (fresh) remove_previous_outputs(dir, case_name);
 }

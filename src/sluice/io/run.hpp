@@ -87,6 +87,7 @@ inline constexpr const char* frames_dir = "frames";
 inline constexpr const char* diagnostics = "diagnostics.csv";
 inline constexpr const char* checkpoint = "checkpoint.bin";
 inline constexpr const char* probes_dir = "probes";
+inline constexpr const char* bodies_dir = "bodies";
 inline constexpr const char* summary = "summary.txt";
 }  // namespace output_files
 

@@ -125,6 +125,15 @@ class Solver {
   [[nodiscard]] const Solids<Dim>& solids() const { return solids_; }
   // The tank and the walls as bodies, the moving ones at the current time.
   [[nodiscard]] const Bodies<Dim>& bodies() const { return bodies_; }
+  // The force the water exerts on a body's wall particles through the pair terms (pressure and
+  // viscosity) at the last force evaluation, and its moment about the body's reference point (its
+  // centre of rotation, where it is now): the sum of m a over the body's particles. In 2D the moment
+  // is about z (its third component). On all processes; collective.
+  struct BodyLoad {
+    Vec<Dim> force{};
+    Vec3 moment{};
+  };
+  [[nodiscard]] BodyLoad body_load(std::uint8_t body) const;
   [[nodiscard]] const KernelVariant& kernel() const { return kernel_; }
   [[nodiscard]] double particle_mass() const { return settings_.mass; }
   [[nodiscard]] double smoothing_length() const { return settings_.h; }

@@ -467,6 +467,30 @@ typename Solver<Dim>::Reach Solver<Dim>::reach() const {
 }
 
 template <int Dim>
+typename Solver<Dim>::BodyLoad Solver<Dim>::body_load(std::uint8_t body) const {
+  const Particles<Dim>& p = particles_;
+  const BodyState<Dim>& state = bodies_.motion().state[body];
+  Vec3 centre{}, force{}, moment{};
+  for (int d = 0; d < Dim; ++d) centre[d] = state.centre[d] + state.displacement[d];
+  // Before the first evaluation there are no rates: no load.
+  const bool rated = p.acceleration[0].size() == p.size() && evaluations_ > 0;
+  for (std::size_t i = 0; rated && i < p.owned(); ++i) {
+    if (p.body[i] != body) continue;
+    Vec3 f{}, r{};
+    for (int d = 0; d < Dim; ++d) {
+      f[d] = settings_.mass * p.acceleration[d][i];
+      r[d] = p.position[d][i] - centre[d];
+    }
+    force = force + f;
+    moment = moment + Vec3{r[1] * f[2] - r[2] * f[1], r[2] * f[0] - r[0] * f[2], r[0] * f[1] - r[1] * f[0]};
+  }
+  BodyLoad load;
+  for (int d = 0; d < Dim; ++d) load.force[d] = reducer_->sum(force[d]);
+  for (int d = 0; d < 3; ++d) load.moment[d] = reducer_->sum(moment[d]);
+  return load;
+}
+
+template <int Dim>
 Diagnostics Solver<Dim>::diagnostics() const {
   Diagnostics d;
   d.time = clock_.time;
