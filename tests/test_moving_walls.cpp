@@ -220,5 +220,24 @@ TEST(MovingWalls, AWallLeavingTheTankIsRefusedAtSetUp) {
   EXPECT_NO_THROW(Simulation(builtin("gate_dam_break", {"domain.dx=0.02"}), 1));
 }
 
+// A moving wall that starts inside another wall is refused, naming both; one that touches another
+// (the gate on the floor, the piston against the tank's wall) is not.
+TEST(MovingWalls, WallsOverlappingAtTheStartAreRefused) {
+  Case c = builtin("gate_dam_break", {"domain.dx=0.02"});
+  Region block;
+  block.name = "block";
+  block.min = {0.15, 0.3, 0.0};
+  block.max = {0.3, 0.35, 0.0};
+  c.water[0].max = {0.1, 0.3, 0.0};
+  c.walls.push_back(block);
+  try {
+    Simulation sim(c, 1);
+    FAIL() << "a gate starting inside a block was accepted";
+  } catch (const CaseError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("walls 1 (gate) and 2 (block) overlap at the start"), std::string::npos) << message;
+  }
+}
+
 }  // namespace
 }  // namespace sluice

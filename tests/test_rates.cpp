@@ -330,7 +330,7 @@ void uniform_motion_has_no_density_rate(bool single) {
     ParticleTerms t;
     t.compute(p, s.eos, s.gravity, 1, 0.0, single, middle);
     compute_rates<Dim>(p, grid, AnyKernel<Dim>(kernel), WallTreatment(DynamicWalls{}), s, t, 2);
-    if (walls_move) add_moving_wall_continuity(p, grid, kernel, s.mass, motion, 2);
+    if (walls_move) add_moving_wall_continuity(p, grid, kernel, s.mass, motion, true, 2);
     return std::pair{p.density_rate, p.acceleration};
   };
   const auto [moving_rate, moving_a] = rates(true);

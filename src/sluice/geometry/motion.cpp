@@ -231,6 +231,7 @@ Vec<3> cross(const Vec<3>& a, const Vec<3>& b) {
 
 // Rodrigues' formula: v turned by `angle` about the unit vector a.
 Vec<3> rotate(const Vec<3>& a, double angle, const Vec<3>& v) {
+  if (angle == 0.0) return v;  // a wall that only translates: what the formula gives, without cos and sin
   const double c = std::cos(angle), s = std::sin(angle);
   return c * v + s * cross(a, v) + ((1.0 - c) * dot(a, v)) * a;
 }

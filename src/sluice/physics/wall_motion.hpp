@@ -49,12 +49,14 @@ struct WallMotion {
 // costs walls at rest nothing; a moving wall particle j adds, for each fluid particle i within the
 // kernel's support,
 //   to i:  -m (u_j . grad_i W_ij),     to j (its density integrated: dynamic walls):  +m (u_j . grad_i W_ij),
-// so that the pair's relative velocity is v_i - u_j. Only the particles within the support of a
-// moving body's bounding box are visited; each particle's additions are summed by one thread in cell
-// order (no races, the same bits on any thread count). The grid must be binned on the current order.
+// so that the pair's relative velocity is v_i - u_j; the walls' part only when their density is
+// integrated (`walls_integrated`: dynamic walls; mDBC and Adami set it from the water instead). Only
+// the particles within the support of a moving body's bounding box are visited; each particle's
+// additions are summed by one thread in cell order (no races, the same bits on any thread count). The
+// grid must be binned on the current order.
 template <int Dim, class Kernel>
 void add_moving_wall_continuity(Particles<Dim>& p, const CellGrid<Dim>& grid, const Kernel& kernel, double mass,
-                                const WallMotion<Dim>& motion, int threads) {
+                                const WallMotion<Dim>& motion, bool walls_integrated, int threads) {
   if (!motion.any) return;
   const double support = Kernel::support * kernel.h, support2 = support * support;
   // The moving bodies' boxes, grown by the support.
@@ -68,10 +70,15 @@ void add_moving_wall_continuity(Particles<Dim>& p, const CellGrid<Dim>& grid, co
     }
     near.push_back(box);
   }
+  // The moving walls' particles before each (sorted) index: a fluid particle passes over the ranges
+  // of its neighbour cells that hold none.
+  std::vector<std::uint32_t> moving_before(p.size() + 1, 0);
+  for (std::size_t k = 0; k < p.size(); ++k)
+    moving_before[k + 1] = moving_before[k] + (!p.is_fluid(k) && motion.moves(p.body[k]) ? 1u : 0u);
   parallel::for_each_dynamic(static_cast<long>(p.size()), threads, 256, [&](long index) {
     const auto i = static_cast<std::size_t>(index);
     const bool fluid = p.is_fluid(i);
-    if (!fluid && !motion.moves(p.body[i])) return;
+    if (!fluid && (!walls_integrated || !motion.moves(p.body[i]))) return;
     Vec<Dim> xi{};
     for (int d = 0; d < Dim; ++d) xi[d] = p.position[d][i];
     const bool close = std::any_of(near.begin(), near.end(), [&](const auto& box) {
@@ -83,6 +90,7 @@ void add_moving_wall_continuity(Particles<Dim>& p, const CellGrid<Dim>& grid, co
     const Vec<Dim> ui = fluid ? Vec<Dim>{} : motion.velocity(p, i);
     double sum = 0.0;
     grid.for_each_neighbor_range(grid.cell_of()[i], [&](std::uint32_t begin, std::uint32_t end) {
+      if (fluid && moving_before[end] == moving_before[begin]) return;
       for (std::uint32_t j = begin; j < end; ++j) {
         // Fluid i with a moving wall j; a moving wall i with fluid j.
         if (fluid ? (p.is_fluid(j) || !motion.moves(p.body[j])) : !p.is_fluid(j)) continue;

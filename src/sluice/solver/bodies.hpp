@@ -160,6 +160,33 @@ class Bodies {
     }
   }
 
+  // Throws CaseError if a moving wall and another wall overlap at the start: a wall particle of one
+  // strictly inside the other's shape (`solids`, the set-up's, the walls' the last ones in order). Walls
+  // may touch (a gate standing on the floor); fixed walls may overlap each other as before.
+  void check_apart(const Particles<Dim>& built, const Solids<Dim>& solids, const std::vector<Region>& walls) const {
+    if (!motion_.any) return;
+    const std::size_t first = solids.size() - walls.size();
+    for (std::size_t i = 0; i < built.size(); ++i) {
+      const std::uint8_t a = built.body[i];
+      if (a < body_id::first_wall) continue;
+      Vec<Dim> x{};
+      for (int d = 0; d < Dim; ++d) x[d] = built.position[d][i];
+      for (std::size_t k = 0; k < walls.size(); ++k) {
+        const auto b = static_cast<std::uint8_t>(body_id::first_wall + k);
+        if (b == a || !(motion_.moves(a) || motion_.moves(b))) continue;
+        const Solid<Dim>& other = *solids[first + k];
+        if (!other.contains(x) || other.signed_distance(x) > -1e-9) continue;
+        std::string at;
+        for (int d = 0; d < Dim; ++d) at += fmt::format("{}{:.4g}", d ? ", " : "", x[d]);
+        throw CaseError(fmt::format(
+            "walls {} ({}) and {} ({}) overlap at the start: a particle of {} at ({}) m lies inside {}; a moving "
+            "wall and another wall must start apart (they may touch)",
+            a - body_id::first_wall + 1, bodies_[a].name, k + 1, bodies_[b].name, bodies_[a].name, at,
+            bodies_[b].name));
+      }
+    }
+  }
+
   // Boxes that hold everything each moving body's shape covers over [0, end] (sampled, and grown by
   // the most a sample's bounds moved from the one before plus `margin`): where the leak and friction
   // checks must look, and where the cell grid must reach.

@@ -26,6 +26,7 @@ Solver<Dim>::Solver(const Case& c, int threads, const Communicator* comm) : thre
   Setup<Dim> s = build_setup<Dim>(c);
   bodies_ = Bodies<Dim>(c, s.particles, s.solids);
   bodies_.check_inside_tank(c.end_time, c.tank_size(), c.tank_lid);
+  bodies_.check_apart(s.particles, s.solids, c.walls);
   particles_ = std::move(s.particles);
   particles_.resize(particles_.size());  // size the rate and step-start fields
   solids_ = std::move(s.solids);
@@ -289,7 +290,8 @@ RateSummary Solver<Dim>::evaluate(bool shepard_due, unsigned also_moved, bool la
   }
   if (bodies_.any_moving())
     std::visit([&](const auto& kernel) {
-      add_moving_wall_continuity(particles_, grid_, kernel, settings_.mass, bodies_.motion(), pair_threads);
+      add_moving_wall_continuity(particles_, grid_, kernel, settings_.mass, bodies_.motion(),
+                                 std::holds_alternative<DynamicWalls>(walls_), pair_threads);
     }, kernel_);
   std::visit([&](const auto& walls) { walls.after_rates(particles_, threads_, &bodies_.motion()); }, walls_);
   if (last && shifting_.coefficient > 0.0) {
