@@ -1173,11 +1173,14 @@ ramp = 1.0
   // A law's own keys are required, and other laws' refused.
   expect_contains(parse_error(minimal_water + "[[wall]]\nmin = [0.2, 0.0]\nmax = [0.3, 0.5]\n[wall.translation]\n"
                                               "law = \"linear\"\ndirection = [1.0, 0.0]\nend = 1.0\n"),
-                  {"has no 'speed'"});
+                  {"[wall.translation] of [[wall]] number 1 has no 'speed'"});
   expect_contains(parse_error(minimal_water + "[[wall]]\nmin = [0.2, 0.0]\nmax = [0.3, 0.5]\n[wall.translation]\n"
                                               "law = \"linear\"\ndirection = [1.0, 0.0]\nspeed = 1.0\nend = 1.0\n"
                                               "period = 2.0\n"),
-                  {"gives 'period', which a linear law does not use"});
+                  {"[wall.translation] of [[wall]] number 1 gives 'period', which a linear law does not use"});
+  expect_contains(parse_error(minimal_water + "[[wall]]\nmin = [0.2, 0.0]\nmax = [0.3, 0.5]\n[wall.rotation]\n"
+                                              "law = \"linear\"\nsped = 1.0\nend = 1.0\n"),
+                  {"unknown key 'sped' in [wall.rotation] of [[wall]] number 1", "did you mean 'speed'?"});
   expect_contains(parse_error(minimal_water + "[[wall]]\nmin = [0.2, 0.0]\nmax = [0.3, 0.5]\n[wall.translation]\n"
                                               "law = \"linear\"\ndirection = [0.0, 0.0]\nspeed = 1.0\nend = 1.0\n"),
                   {"wall[0].translation.direction = [0.0, 0.0]", "length 0"});

@@ -138,7 +138,9 @@ class Loader {
       if (p == nullptr) {
         const auto candidates = keys_of(params);
         const auto near = closest_match(key, candidates);
-        throw CaseError(fmt::format("{}: unknown key '{}' in [[{}]]{}", where(source_, node), printable(key), section,
+        throw CaseError(fmt::format("{}: unknown key '{}' in {}{}", where(source_, node), printable(key),
+                                    section.find('.') == std::string::npos ? fmt::format("[[{}]]", section)
+                                                                          : item_label(section, index),
                                     near ? fmt::format("; did you mean '{}'?", *near)
                                          : fmt::format("; expected one of: {}", fmt::join(candidates, ", "))));
       }
@@ -147,6 +149,14 @@ class Loader {
     }
     check_item_keys(item, given, t, params, section, index);
     return item;
+  }
+
+  // How a message names an item: "[[wall]] number 2", or for a table inside one (a wall's motion law,
+  // section "wall.translation") "[wall.translation] of [[wall]] number 2".
+  static std::string item_label(const std::string& section, std::size_t index) {
+    const auto dot = section.find('.');
+    if (dot == std::string::npos) return fmt::format("[[{}]] number {}", section, index + 1);
+    return fmt::format("[{}] of [[{}]] number {}", section, section.substr(0, dot), index + 1);
   }
 
   // Keys that only some items use (a box's min and max, a polygon's points) are required by those
@@ -158,11 +168,11 @@ class Loader {
       const bool required =
           std::holds_alternative<std::monostate>(p.default_value) || (p.applies && p.applies(item) && !p.optional);
       if (required && !given.contains(p.key))
-        throw CaseError(fmt::format("{}: [[{}]] number {} has no '{}' ({}); expected {}", where(source_, t), section,
-                                    index + 1, p.key, p.description, expectation(p, dimension_)));
+        throw CaseError(fmt::format("{}: {} has no '{}' ({}); expected {}", where(source_, t),
+                                    item_label(section, index), p.key, p.description, expectation(p, dimension_)));
       if (p.applies && !p.applies(item) && given.contains(p.key))
-        throw CaseError(fmt::format("{}: [[{}]] number {} gives '{}', which a {} does not use ({})", where(source_, t),
-                                    section, index + 1, p.key, describe_shape(item), p.description));
+        throw CaseError(fmt::format("{}: {} gives '{}', which a {} does not use ({})", where(source_, t),
+                                    item_label(section, index), p.key, describe_shape(item), p.description));
     }
   }
 
