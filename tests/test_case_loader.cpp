@@ -754,6 +754,19 @@ TEST(CaseValidation, ProbesOutsideTheTank) {
   expect_contains(override_error(c, "tank.width=1.2"), {"[[probe]] \"p\"", "lies outside the tank [0, 1.2] x [0, 1.5]"});
 }
 
+// A probe that moves with a wall names one of the case's walls (by its name, or wallN when it has none).
+TEST(CaseValidation, AProbesWallIsOneOfTheCasesWalls) {
+  const std::string walls = minimal_water + "[[wall]]\nname = \"gate\"\nmin = [1.0, 0.0]\nmax = [1.1, 0.5]\n"
+                                            "[[wall]]\nmin = [1.5, 0.0]\nmax = [1.6, 0.2]\n";
+  const std::string probe = "[[probe]]\nname = \"p\"\ntype = \"pressure\"\npoint = [1.0, 0.1]\n";
+  EXPECT_EQ(parse(walls + probe + "wall = \"gate\"\n").probes[0].wall, "gate");
+  EXPECT_NO_THROW(parse(walls + probe + "wall = \"wall2\"\n"));
+  expect_contains(parse_error(walls + probe + "wall = \"door\"\n"),
+                  {"[[probe]] \"p\": wall = \"door\" names no [[wall]] of the case; expected one of \"gate\", \"wall2\""});
+  expect_contains(parse_error(minimal_water + probe + "wall = \"gate\"\n"),
+                  {"wall = \"gate\" names no [[wall]] of the case; expected no wall key (the case has no [[wall]])"});
+}
+
 TEST(CaseValidation, CaseNameIsAUsableFolderName) {
   for (const char* bad : {"\"\"", "\".\"", "\"..\"", "\"a/b\"", "\"a\\\\b\"", "\"a\\nb\""})
     expect_contains(parse_error(fmt::format("[case]\nname = {}\n", bad) + minimal_water),

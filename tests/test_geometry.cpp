@@ -229,6 +229,51 @@ TEST(NoPenetration, WaterCloseToAWallLosesItsApproachAndNothingElse) {
   }
 }
 
+TEST(NoPenetration, InACornerThatWrapsAroundTheWaterBothFacesStopTheApproach) {
+  // A U-shaped solid (a tank's floor and side walls as one polygon); its inner corner at (0, 0) is a
+  // reflex vertex. A particle in the corner, within dx/4 of both faces, moving diagonally into it:
+  // both parts of the approach go, not only the one towards the nearest face.
+  const double dx = 0.1;
+  const Solids<2> solids = {std::make_shared<Polygon>(Polygon(
+      {{-0.2, -0.2}, {1.2, -0.2}, {1.2, 1.0}, {1.0, 1.0}, {1.0, 0.0}, {0.0, 0.0}, {0.0, 1.0}, {-0.2, 1.0}}))};
+  Particles<2> p;
+  p.add({0.01, 0.02}, Kind::fluid, 1000.0);  // nearer the left face than the floor
+  p.add({0.5, 0.01}, Kind::fluid, 1000.0);   // on the middle of the floor: one face only
+  for (std::size_t i = 0; i < p.size(); ++i) p.velocity[0][i] = p.velocity[1][i] = -1.0;
+  EXPECT_EQ(stop_wall_approach(p, solids, dx, nullptr, 0.0), 2u);
+  // f = 1 - distance / band of the approach goes, per face: distance / band of it stays.
+  EXPECT_NEAR(p.velocity[0][0], -0.01 / 0.025, 1e-12);
+  EXPECT_NEAR(p.velocity[1][0], -0.02 / 0.025, 1e-12);
+  EXPECT_EQ(p.velocity[0][1], -1.0);  // along the floor: untouched
+  EXPECT_NEAR(p.velocity[1][1], -0.01 / 0.025, 1e-12);
+}
+
+TEST(Polygon, FacesOutsideOfWhichAPointLiesAreTheCornersOnesOnlyWhereTheSolidWrapsAround) {
+  const auto faces = [](const Polygon& shape, Vec2 x, double reach) {
+    std::vector<std::pair<Vec2, Vec2>> found;
+    shape.for_each_face_outside(x, reach, [&](const Vec2& q, const Vec2& n) { found.emplace_back(q, n); });
+    return found;
+  };
+  // Clockwise on purpose: the normals point out of the solid either way.
+  const Polygon u({{-0.2, 1.0}, {0.0, 1.0}, {0.0, 0.0}, {1.0, 0.0}, {1.0, 1.0}, {1.2, 1.0}, {1.2, -0.2}, {-0.2, -0.2}});
+  const auto corner = faces(u, {0.01, 0.02}, 0.025);
+  ASSERT_EQ(corner.size(), 2u);
+  for (const auto& [q, n] : corner) {
+    const bool left = n[0] > 0.5;
+    const Vec2 foot = left ? Vec2{0.0, 0.02} : Vec2{0.01, 0.0};
+    EXPECT_NEAR(norm(q - foot), 0.0, 1e-12);
+    const Vec2 normal = left ? Vec2{1.0, 0.0} : Vec2{0.0, 1.0};
+    EXPECT_EQ(n, normal);
+  }
+  EXPECT_EQ(faces(u, {0.01, 0.02}, 0.015).size(), 1u);  // the floor is beyond the reach
+  EXPECT_TRUE(faces(u, {0.5, 0.5}, 0.025).empty());
+  EXPECT_TRUE(faces(u, {-0.1, -0.1}, 0.5).empty());     // inside the solid
+  // Outside a convex corner, even an acute one, a point is outside of one face at most.
+  const Polygon wedge({{0.0, 0.0}, {1.0, 0.0}, {1.0, 0.5774}});
+  for (const Vec2 x : {Vec2{-0.01, -0.001}, Vec2{0.5, -0.01}, Vec2{-0.001, 0.0005}, Vec2{0.02, 0.02}})
+    EXPECT_LE(faces(wedge, x, 0.1).size(), 1u) << x[0] << ", " << x[1];
+}
+
 TEST(NoPenetration, TheDriftVelocityDecidesWithTheLeapfrogsHalfKick) {
   // At rest on the surface of a 3D floor, but the half kick tau a would carry the particle in: the
   // velocity takes minus that approach (the drift velocity v + tau a then has no normal part).

@@ -113,6 +113,7 @@ struct Probe {
   ProbeCorrection correction = ProbeCorrection::shepard;  // pressure: how the interpolation is corrected
   GaugeMeasure measure = GaugeMeasure::highest;           // gauge: the highest fluid, or the column's top
   double interval = 0.0;  // sampling interval in simulated time (0 = every step)
+  std::string wall;       // the [[wall]] the probe moves with (its name); empty: fixed in space
 };
 
 struct Case {

@@ -242,7 +242,22 @@ struct Checker {
         fail(fmt::format("[[probe]] {}: direction must not be {}", quote(p.name),
                          format_vector(p.direction, c.dimension)));
       check_probe_inside_tank(p);
+      check_probe_wall(p);
     }
+  }
+
+  // A probe that moves with a wall names one of the case's walls.
+  void check_probe_wall(const Probe& p) const {
+    if (p.wall.empty()) return;
+    std::vector<std::string> names;
+    for (const Region& w : c.walls) {
+      if (w.name == p.wall) return;
+      names.push_back(quote(w.name));
+    }
+    fail(fmt::format("[[probe]] {}: wall = {} names no [[wall]] of the case; expected {}", quote(p.name),
+                     quote(p.wall),
+                     names.empty() ? std::string("no wall key (the case has no [[wall]]), or a [[wall]] to move with")
+                                   : fmt::format("one of {}", fmt::join(names, ", "))));
   }
 
   // Every probe samples the particles around its point (a pressure probe), on the vertical line

@@ -383,6 +383,10 @@ const std::vector<Param<Probe>>& probe_params() {
               "of the water standing on the line's foot, `point`: spray and drops above a gap of more than one "
               "particle spacing are not water level, as for a wire gauge)."),
       declare("interval", &Probe::interval, "s", 0.0, 0.0, 1e300, "Sampling interval; 0 = every step."),
+      declare("wall", &Probe::wall, "", std::string(""), unbounded_lower, unbounded_upper,
+              "The name of the [[wall]] the probe moves with: `point` is where it is at the start, and it is "
+              "carried by that wall's motion (a pressure sensor on a rolling tank's side, a gauge on a moving "
+              "body); a gauge's line stays vertical and a front's direction fixed. Empty: fixed in space."),
   };
   return params;
 }

@@ -125,17 +125,28 @@ template <int Dim>
     if (!in_box<Dim>(b, x)) continue;
     const double distance = b.solid->signed_distance(x);
     if (distance >= band) continue;
-    const Vec<Dim> normal = outward_normal<Dim>(*b.solid, x, distance, dx);
     const Vec<Dim> wall = relative && b.moving ? b.solid->velocity_at(x) : Vec<Dim>{};
-    double un = 0.0;
-    for (int d = 0; d < Dim; ++d) {
-      const double a = acceleration != nullptr ? (*acceleration)[d][i] : 0.0;
-      un += (velocity[d][i] + tau * a - wall[d]) * normal[d];
-    }
-    if (!(un < 0.0)) continue;
-    const double f = std::clamp(1.0 - distance / band, 0.0, 2.0);
-    for (int d = 0; d < Dim; ++d) velocity[d][i] -= f * un * normal[d];
-    changed = 1;
+    // The velocity's part towards the surface along `normal`, taken away in full at the surface and
+    // less with the distance from it.
+    const auto stop = [&](const Vec<Dim>& normal, double from_surface) {
+      double un = 0.0;
+      for (int d = 0; d < Dim; ++d) {
+        const double a = acceleration != nullptr ? (*acceleration)[d][i] : 0.0;
+        un += (velocity[d][i] + tau * a - wall[d]) * normal[d];
+      }
+      if (!(un < 0.0)) return;
+      const double f = std::clamp(1.0 - from_surface / band, 0.0, 2.0);
+      for (int d = 0; d < Dim; ++d) velocity[d][i] -= f * un * normal[d];
+      changed = 1;
+    };
+    const Vec<Dim> normal = outward_normal<Dim>(*b.solid, x, distance, dx);
+    stop(normal, distance);
+    // In a corner of a solid that wraps around the water the other face is as near: the velocity
+    // into it is stopped too, or the particle slides along the nearest face into the corner.
+    if (distance > 0.0 && !b.box)
+      b.solid->for_each_face_outside(x, band, [&](const Vec<Dim>& foot, const Vec<Dim>& face_normal) {
+        if (dot(face_normal, normal) < 1.0 - 1e-9) stop(face_normal, norm(x - foot));
+      });
   }
   return changed;
 }

@@ -47,6 +47,12 @@ class MovingSolid final : public Solid<Dim> {
     shape_->for_each_face_point(to_start<Dim>(state_, x),
                                 [&](const Vec<Dim>& q) { f(point_motion<Dim>(state_, q).position); });
   }
+  void for_each_face_outside(const Vec<Dim>& x, double reach,
+                             const std::function<void(const Vec<Dim>&, const Vec<Dim>&)>& f) const override {
+    shape_->for_each_face_outside(to_start<Dim>(state_, x), reach, [&](const Vec<Dim>& q, const Vec<Dim>& normal) {
+      f(point_motion<Dim>(state_, q).position, rotate_to_now<Dim>(state_, normal));
+    });
+  }
   void fill_surface_layers(double dx, int layers, const std::function<void(const Vec<Dim>&)>& add) const override {
     shape_->fill_surface_layers(dx, layers, [&](const Vec<Dim>& q) { add(point_motion<Dim>(state_, q).position); });
   }

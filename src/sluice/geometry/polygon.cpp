@@ -70,6 +70,21 @@ void Polygon::for_each_face_point(const Vec2& p, const std::function<void(const 
   for (std::size_t i = 0, j = n - 1; i < n; j = i++) f(closest_on_segment(p, points[j], points[i]));
 }
 
+void Polygon::for_each_face_outside(const Vec2& p, double reach,
+                                    const std::function<void(const Vec2&, const Vec2&)>& f) const {
+  const double orientation = twice_signed_area() > 0.0 ? 1.0 : -1.0;  // +1: counter-clockwise
+  const std::size_t n = points.size();
+  for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
+    const Vec2 a = points[j], ab = points[i] - points[j];
+    const double length = norm(ab);
+    if (!(length > 0.0)) continue;
+    const Vec2 tangent = (1.0 / length) * ab;
+    const Vec2 outward = orientation * Vec2{tangent[1], -tangent[0]};
+    const double along = dot(p - a, tangent), off = dot(p - a, outward);
+    if (along > 0.0 && along < length && off > 0.0 && off < reach) f(a + along * tangent, outward);
+  }
+}
+
 double Polygon::distance_to_boundary(Vec2 p) const { return norm(closest_boundary_point(p) - p); }
 
 double Polygon::signed_distance(const Vec2& p) const {

@@ -20,6 +20,8 @@ class Polygon final : public Solid<2> {
   // The outward normal is along the line from p to the closest point (p inside) or back (p outside).
   [[nodiscard]] SurfacePoint<2> closest_surface_point(const Vec2& p) const override;
   void for_each_face_point(const Vec2& p, const std::function<void(const Vec2&)>& f) const override;
+  void for_each_face_outside(const Vec2& p, double reach,
+                             const std::function<void(const Vec2&, const Vec2&)>& f) const override;
   [[nodiscard]] Vec2 lower() const override;  // bounding box
   [[nodiscard]] Vec2 upper() const override;
   // Four vertices at the corners of its bounding box.

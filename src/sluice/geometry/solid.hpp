@@ -40,6 +40,13 @@ class Solid {
   // Calls f(q) with the point q of each face (an edge in 2D) nearest to x: the candidates for the
   // nearest point of the surface that water touches, where a face may be covered by another solid.
   virtual void for_each_face_point(const Vec<Dim>& x, const std::function<void(const Vec<Dim>&)>& f) const = 0;
+  // Calls f(foot, normal) for each face x lies outside of (on the side its outward `normal` points to)
+  // within `reach`, whose foot of the perpendicular from x lies inside the face. Where two faces meet
+  // at a corner that wraps around the water (a polygon's reflex vertex) a particle in the corner is
+  // near both, and the nearest surface point names only one of them. Convex shapes and meshes call
+  // nothing: for them the nearest surface point is enough.
+  virtual void for_each_face_outside(const Vec<Dim>& /*x*/, double /*reach*/,
+                                     const std::function<void(const Vec<Dim>&, const Vec<Dim>&)>& /*f*/) const {}
   // Calls add(x) for the wall particles of the solid: points inside it, in `layers` layers spaced dx
   // below its surface (the first at dx/2), about dx apart along it.
   virtual void fill_surface_layers(double dx, int layers, const std::function<void(const Vec<Dim>&)>& add) const = 0;

@@ -6,7 +6,9 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
+#include "sluice/core/body_id.hpp"
 #include "sluice/core/linear_fit.hpp"
 #include "sluice/io/atomic_file.hpp"
 
@@ -110,9 +112,20 @@ std::vector<Vec<Dim>> sensor_points(const Solver<Dim>& solver, const Vec<Dim>& a
   return points;
 }
 
+// Where the probe's point is now: where the case puts it, or, for a probe that moves with a wall, that
+// point carried by the wall's motion.
+template <int Dim>
+Vec<Dim> probe_point(const Probe& probe, const Solver<Dim>& solver) {
+  const Vec<Dim> at = first<Dim>(probe.point);
+  if (probe.wall.empty()) return at;
+  for (const auto& body : solver.bodies().list())
+    if (body.id >= body_id::first_wall && body.name == probe.wall) return solver.bodies().carried(body.id, at);
+  throw std::logic_error("probe_point: the probe's wall is not a body of the run");
+}
+
 template <int Dim>
 std::vector<double> pressure_at(const Probe& probe, const Solver<Dim>& solver) {
-  const Vec<Dim> at = first<Dim>(probe.point);
+  const Vec<Dim> at = probe_point<Dim>(probe, solver);
   const bool with_walls = solver.config().wall_boundary != WallBoundary::dynamic;
   const std::vector<Vec<Dim>> points = sensor_points<Dim>(solver, at, probe.size);
   return std::visit(
@@ -137,10 +150,11 @@ void for_each_in_band(const Probe& probe, const Solver<Dim>& solver, F&& f) {
   const Particles<Dim>& p = solver.particles();
   const double dx = solver.config().dx;
   const double band = probe.band > 0.0 ? probe.band : dx;
+  const Vec<Dim> point = probe_point<Dim>(probe, solver);
   Vec<Dim> lower{}, upper{};
   for (int d = 0; d < up; ++d) {
-    lower[d] = probe.point[d] - band;
-    upper[d] = probe.point[d] + band;
+    lower[d] = point[d] - band;
+    upper[d] = point[d] + band;
   }
   lower[up] = -std::numeric_limits<double>::infinity();  // the whole column (clamped to the grid)
   upper[up] = std::numeric_limits<double>::infinity();
@@ -148,7 +162,7 @@ void for_each_in_band(const Probe& probe, const Solver<Dim>& solver, F&& f) {
     for (std::uint32_t i = begin; i < end; ++i) {
       if (!p.is_fluid(i)) continue;
       bool inside = true;
-      for (int d = 0; d < up; ++d) inside = inside && std::abs(p.position[d][i] - probe.point[d]) <= band;
+      for (int d = 0; d < up; ++d) inside = inside && std::abs(p.position[d][i] - point[d]) <= band;
       if (inside) f(p.position[up][i] + 0.5 * dx);
     }
   });
@@ -162,7 +176,7 @@ void for_each_in_band(const Probe& probe, const Solver<Dim>& solver, F&& f) {
 template <int Dim>
 double column_top(const Probe& probe, const Solver<Dim>& solver) {
   constexpr int up = Dim - 1;
-  const double dx = solver.config().dx, foot = probe.point[up];
+  const double dx = solver.config().dx, foot = probe_point<Dim>(probe, solver)[up];
   double highest = -std::numeric_limits<double>::infinity();
   for_each_in_band(probe, solver, [&](double top) { highest = std::max(highest, top); });
   highest = solver.reducer().max(highest);
@@ -202,7 +216,7 @@ std::vector<double> gauge_height(const Probe& probe, const Solver<Dim>& solver) 
 template <int Dim>
 std::vector<double> front_position(const Probe& probe, const Solver<Dim>& solver) {
   const Particles<Dim>& p = solver.particles();
-  const Vec<Dim> origin = first<Dim>(probe.point);
+  const Vec<Dim> origin = probe_point<Dim>(probe, solver);
   const Vec<Dim> dir = (1.0 / norm(first<Dim>(probe.direction))) * first<Dim>(probe.direction);
   double best = -std::numeric_limits<double>::infinity();
   Vec<Dim> at{};
