@@ -272,10 +272,12 @@ class Progress {
   double next_line_t_ = -1e300;
 };
 
-// "N particles are bad; the first:" and a line for each offender the check described.
+// A moving wall outside the tank, and "N particles are bad; the first:" with a line for each offender
+// the check described.
 std::string describe_offenders(const Health& health) {
-  std::string m =
-      fmt::format("{} particle{} bad; the first:\n", health.offending, health.offending == 1 ? " is" : "s are");
+  std::string m = health.wall_outside.empty() ? "" : health.wall_outside + "\n";
+  if (health.offending == 0) return m;
+  m += fmt::format("{} particle{} bad; the first:\n", health.offending, health.offending == 1 ? " is" : "s are");
   auto vector = [](const Vec3& v, int dimension) {
     std::string s = fmt::format("({:.4g}", v[0]);
     for (int d = 1; d < dimension; ++d) s += fmt::format(", {:.4g}", v[d]);
@@ -290,6 +292,12 @@ std::string describe_offenders(const Health& health) {
 
 std::string describe_instability(const std::string& failure, const Health& health, double time, std::int64_t step,
                                  const Simulation& good, std::int64_t frame, const std::filesystem::path& dir) {
+  if (failure.empty() && health.offending == 0 && !health.wall_outside.empty())
+    return fmt::format("the run stopped at t = {:.6g} s (step {}): {}: a moving wall must stay inside the tank until "
+                       "time.end = {:.6g} s.\nThe last good state (t = {:.6g} s, step {}) is saved as {}/frame_{:06} and "
+                       "{} in {}.",
+                       time, step, health.wall_outside, good.config().end_time, good.time(), good.clock().step,
+                       output_files::frames_dir, frame, output_files::checkpoint, dir.string());
   std::string m = fmt::format("the run became unstable at t = {:.6g} s (step {}): ", time, step);
   m += failure.empty() ? describe_offenders(health) : failure + "\n";
   m += fmt::format("The last good state (t = {:.6g} s, step {}) is saved as {}/frame_{:06} and {} in {}.\n",

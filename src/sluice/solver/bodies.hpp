@@ -135,29 +135,32 @@ class Bodies {
   // tank it may rise). `size`: the tank's inside.
   void check_inside_tank(double end, const Vec3& size, bool lid) const {
     constexpr int samples = 2000;
-    constexpr int up = Dim - 1;
     for (const Body& body : bodies_) {
       if (!body.moves) continue;
       MovingSolid<Dim> solid(std::shared_ptr<const Solid<Dim>>(body.solid, &body.solid->shape()));
       for (int s = 0; s <= samples; ++s) {
         const double t = end * s / samples;
         solid.set_state(body_state<Dim>(body.motion, t));
-        const Vec<Dim> lo = solid.lower(), hi = solid.upper();
-        const double slack = 1e-9 * (1.0 + size[0]);
-        for (int d = 0; d < Dim; ++d) {
-          const bool below = lo[d] < -slack, above = hi[d] > size[d] + slack && (d != up || lid);
-          if (!below && !above) continue;
-          const char* side = d == up ? (below ? "through the floor" : "through the lid (tank.lid = true)")
-                                     : (below ? "through the wall at the low end of " : "through the wall at the high end of ");
-          throw CaseError(fmt::format(
-              "wall {} ({}) leaves the tank {}{} at t = {:.4g} s (its bounds reach {} = {:.4g} m, the tank's inside "
-              "spans 0 to {:.4g} m): a moving wall must stay inside the tank until time.end = {:.4g} s{}",
-              body.id - body_id::first_wall + 1, body.name, side, d == up ? "" : std::string(1, "xyz"[d]), t,
-              "xyz"[d], below ? lo[d] : hi[d], size[d], end,
-              d == up && !below ? "; an open tank (tank.lid = false) lets it rise out of the water" : ""));
-        }
+        const Exit exit = exit_of(body, solid.lower(), solid.upper(), size, lid);
+        if (!exit.what.empty())
+          throw CaseError(fmt::format("{} at t = {:.4g} s ({}): a moving wall must stay inside the tank until "
+                                      "time.end = {:.4g} s{}",
+                                      exit.what, t, exit.where, end, exit.hint));
       }
     }
+  }
+
+  // The first moving body whose shape is outside the tank's inside now, said as check_inside_tank
+  // says it ("wall 1 (gate) leaves the tank through the floor (its bounds reach ...)"); empty when
+  // every body is inside. The instability guard's check of the walls (Solver::check_health): the
+  // set-up's samples may miss a motion faster than them.
+  [[nodiscard]] std::string outside_tank(const Vec3& size, bool lid) const {
+    for (const Body& body : bodies_) {
+      if (!body.moves) continue;
+      const Exit exit = exit_of(body, body.solid->lower(), body.solid->upper(), size, lid);
+      if (!exit.what.empty()) return fmt::format("{} ({}){}", exit.what, exit.where, exit.hint);
+    }
+    return "";
   }
 
   // Throws CaseError if a moving wall and another wall overlap at the start: a wall particle of one
@@ -219,6 +222,28 @@ class Bodies {
   }
 
  private:
+  // How a body whose shape spans [lo, hi] leaves the tank's inside `size` (an open tank lets a wall
+  // rise): which wall and through what, where its bounds reach, and a hint; `what` empty if inside.
+  struct Exit {
+    std::string what, where, hint;
+  };
+  static Exit exit_of(const Body& body, const Vec<Dim>& lo, const Vec<Dim>& hi, const Vec3& size, bool lid) {
+    constexpr int up = Dim - 1;
+    const double slack = 1e-9 * (1.0 + size[0]);
+    for (int d = 0; d < Dim; ++d) {
+      const bool below = lo[d] < -slack, above = hi[d] > size[d] + slack && (d != up || lid);
+      if (!below && !above) continue;
+      const char* side = d == up ? (below ? "through the floor" : "through the lid (tank.lid = true)")
+                                 : (below ? "through the wall at the low end of " : "through the wall at the high end of ");
+      return {fmt::format("wall {} ({}) leaves the tank {}{}", body.id - body_id::first_wall + 1, body.name, side,
+                          d == up ? "" : std::string(1, "xyz"[d])),
+              fmt::format("its bounds reach {} = {:.4g} m, the tank's inside spans 0 to {:.4g} m", "xyz"[d],
+                          below ? lo[d] : hi[d], size[d]),
+              d == up && !below ? "; an open tank (tank.lid = false) lets it rise out of the water" : ""};
+    }
+    return {};
+  }
+
 
   std::vector<Body> bodies_;
   WallMotion<Dim> motion_;

@@ -572,6 +572,9 @@ Health Solver<Dim>::check_health(std::size_t max_reported) const {
       n, threads_, [&](long i) -> std::int64_t { return healthy(static_cast<std::size_t>(i)) ? 0 : 1; }));
   Health health;
   health.offending = static_cast<std::size_t>(bad);
+  // A moving wall is placed by its law, the same on every process; one the set-up's samples of its
+  // motion did not see leave the tank is stopped here.
+  health.wall_outside = bodies_.outside_tank(case_.tank_size(), case_.tank_lid);
   if (bad == 0) return health;
   // The offenders described are this process's (the count is everyone's).
   std::vector<std::size_t> rows;
