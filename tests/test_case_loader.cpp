@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "sluice/case/params.hpp"
+#include "sluice/case/release_gate.hpp"
 #include "sluice/case/value_text.hpp"
 
 namespace fs = std::filesystem;
@@ -755,6 +756,54 @@ TEST(CaseValidation, ProbesOutsideTheTank) {
 }
 
 // A probe that moves with a wall names one of the case's walls (by its name, or wallN when it has none).
+// release.gate: the first water region's +x face gets a plate 4 dx thick across the tank, from the
+// floor to 4 dx above the water, lifted at gate_speed until its foot is dx above the water.
+TEST(ReleaseGate, HoldsTheFirstWaterRegionBehindAPlateLiftedAtItsSpeed) {
+  const std::string tank = "[domain]\ndx = 0.01\n[tank]\nwidth = 1.0\nheight = 0.8\n"
+                           "[[water]]\nmin = [0.0, 0.0]\nmax = [0.2, 0.4]\n";
+  const Case at_once = parse(tank);
+  EXPECT_TRUE(with_release_gate(at_once).walls.empty());
+  const Case c = parse(tank + "[release]\ngate = true\ngate_speed = 2.0\n");
+  const Case expanded = with_release_gate(c);
+  ASSERT_EQ(expanded.walls.size(), 1u);
+  EXPECT_FALSE(expanded.release_gate);  // expanded once: a checkpoint's case is not expanded again
+  EXPECT_EQ(with_release_gate(expanded).walls.size(), 1u);
+  const Region& gate = expanded.walls[0];
+  EXPECT_EQ(gate.name, "gate");
+  EXPECT_EQ(gate.shape, Shape::box);
+  EXPECT_DOUBLE_EQ(gate.min[0], 0.2);
+  EXPECT_DOUBLE_EQ(gate.max[0], 0.24);
+  EXPECT_DOUBLE_EQ(gate.min[1], 0.0);
+  EXPECT_DOUBLE_EQ(gate.max[1], 0.44);
+  EXPECT_EQ(gate.translation.law, MotionLawType::linear);
+  EXPECT_EQ(gate.translation.direction, (Vec3{0.0, 1.0, 0.0}));
+  EXPECT_DOUBLE_EQ(gate.translation.speed, 2.0);
+  EXPECT_DOUBLE_EQ(gate.translation.end, 0.41 / 2.0);
+  // In 3D the plate spans the tank's depth and rises along z.
+  const Case c3 = parse("[domain]\ndimension = 3\ndx = 0.02\n[tank]\nwidth = 1.0\ndepth = 0.5\nheight = 0.8\n"
+                        "[physics]\ngravity = [0.0, 0.0, -9.81]\n"
+                        "[[water]]\nmin = [0.0, 0.0, 0.0]\nmax = [0.3, 0.5, 0.4]\n[release]\ngate = true\n");
+  const Region gate3 = with_release_gate(c3).walls.at(0);
+  EXPECT_EQ(gate3.min, (Vec3{0.3, 0.0, 0.0}));
+  EXPECT_DOUBLE_EQ(gate3.max[1], 0.5);
+  EXPECT_DOUBLE_EQ(gate3.max[2], 0.48);
+  EXPECT_EQ(gate3.translation.direction, (Vec3{0.0, 0.0, 1.0}));
+  // What it cannot hold: a first water region that is not a box; a wall named gate already.
+  const Case polygon = parse("[release]\ngate = true\n[[water]]\nshape = \"polygon\"\n"
+                             "points = [[0.0, 0.0], [0.2, 0.0], [0.0, 0.3]]\n");
+  try {
+    (void)with_release_gate(polygon);
+    FAIL() << "a polygon of water behind a gate was accepted";
+  } catch (const CaseError& e) {
+    EXPECT_NE(std::string(e.what()).find("expected a first [[water]] region with shape = \"box\", found shape = "
+                                         "\"polygon\""),
+              std::string::npos)
+        << e.what();
+  }
+  const Case named = parse(tank + "[release]\ngate = true\n[[wall]]\nname = \"gate\"\nmin = [0.6, 0.0]\nmax = [0.7, 0.1]\n");
+  EXPECT_THROW((void)with_release_gate(named), CaseError);
+}
+
 TEST(CaseValidation, AProbesWallIsOneOfTheCasesWalls) {
   const std::string walls = minimal_water + "[[wall]]\nname = \"gate\"\nmin = [1.0, 0.0]\nmax = [1.1, 0.5]\n"
                                             "[[wall]]\nmin = [1.5, 0.0]\nmax = [1.6, 0.2]\n";

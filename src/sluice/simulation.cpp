@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include "sluice/case/release_gate.hpp"
+
 namespace sluice {
 
 namespace {
@@ -27,10 +29,12 @@ std::variant<Solver<2>, Solver<3>> resume_solver(const Case& c, AnyParticles par
 
 }  // namespace
 
+// The solver runs the case with its release gate made a wall (case/release_gate.hpp): config() and a
+// checkpoint hold the expanded case.
 Simulation::Simulation(const Case& c, int threads, const Communicator* comm)
-    : solver_(make_solver(c, threads, comm)) {}
+    : solver_(make_solver(with_release_gate(c), threads, comm)) {}
 
 Simulation::Simulation(const Case& c, AnyParticles particles, Clock clock, int threads, const Communicator* comm)
-    : solver_(resume_solver(c, std::move(particles), clock, threads, comm)) {}
+    : solver_(resume_solver(with_release_gate(c), std::move(particles), clock, threads, comm)) {}
 
 }  // namespace sluice

@@ -160,6 +160,10 @@ struct Case {
   double shifting = 0.0;                // particle shifting coefficient A; 0 = off
   double free_surface_threshold = 0.0;  // div r below which a fluid particle is on the free surface
 
+  // [release]: the first water region held behind a gate lifted at gate_speed (case/release_gate.hpp)
+  bool release_gate = false;
+  double gate_speed = 1.0;  // m/s
+
   // [time]
   double end_time = 0.0;
   Integrator integrator = Integrator::predictor_corrector;

@@ -91,6 +91,7 @@ const std::vector<Section>& case_sections() {
       {"tank", "The closed box tank: inner walls at x = 0 and x = width (and in 3D y = 0 and y = depth), the floor at up = 0 and (with a lid) the top at up = height; up is y in 2D, z in 3D.", false},
       {"fluid", "Fluid properties and the weakly-compressible equation of state.", false},
       {"physics", "Forces and stabilisation.", false},
+      {"release", "How the water is released: at once (the default), or from behind a gate lifted as in a laboratory.", false},
       {"time", "Time integration.", false},
       {"output", "What is written, and how often.", false},
       {"water", "Regions filled with water at rest. Repeat [[water]] for each region; overlaps are merged.", true},
@@ -201,6 +202,13 @@ const std::vector<Param<Case>>& case_params() {
       with_3d_default(2.5, declare("physics.free_surface_threshold", &Case::free_surface_threshold, "", 1.5, 0.5, 3.0,
                                    "For particle shifting: a fluid particle whose position divergence div r (about 2 "
                                    "inside the water in 2D, 3 in 3D) is below this is on the free surface.")),
+      declare("release.gate", &Case::release_gate, "", false, unbounded_lower, unbounded_upper,
+              "Hold the first [[water]] region (a box) behind a gate at its face towards +x: a plate 4 dx thick "
+              "across the tank, from the floor to 4 dx above the water, lifted at release.gate_speed from t = 0 "
+              "until its foot is dx above the water and held there (a moving [[wall]] named gate). false: the "
+              "water is released at once."),
+      declare("release.gate_speed", &Case::gate_speed, "m/s", 1.0, 1e-6, inf,
+              "The speed at which the gate of release.gate rises."),
       declare("time.end", &Case::end_time, "s", 30.0, 0.0, inf, "Simulated end time."),
       declare_choice<&Case::integrator>(
               "time.integrator", Integrator::predictor_corrector, integrator_names,
