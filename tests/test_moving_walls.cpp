@@ -32,6 +32,16 @@ Case builtin(const std::string& name, const std::vector<std::string>& overrides)
   return c;
 }
 
+// A run of `c` into the emptied directory `dir`, without a progress line.
+RunResult run_into(const Case& c, const std::filesystem::path& dir) {
+  std::filesystem::remove_all(dir);
+  RunOptions options;
+  options.output_dir = dir;
+  options.progress = RunOptions::Progress::none;
+  std::ostringstream log;
+  return run_case(c, options, log);
+}
+
 // The piston's smoothstep: x(t) = D (3 s^2 - 2 s^3), s = (t - 0.2) / 2, D = 0.05 m; its rate.
 double piston_travel(double t) {
   const double s = std::clamp((t - 0.2) / 2.0, 0.0, 1.0);
@@ -220,12 +230,7 @@ TEST(MovingWalls, AReleaseGateHoldsTheColumnBackAndRestartsExactly) {
 TEST(MovingWalls, ThePistonsSeriesHoldsItsMotionAndTheWatersThrust) {
   Case c = builtin("piston_still_water", {"domain.dx=0.02", "time.end=0.6"});
   const auto dir = std::filesystem::temp_directory_path() / "sluice_test_piston_series";
-  std::filesystem::remove_all(dir);
-  RunOptions options;
-  options.output_dir = dir;
-  options.progress = RunOptions::Progress::none;
-  std::ostringstream log;
-  const RunResult result = run_case(c, options, log);
+  const RunResult result = run_into(c, dir);
   std::ifstream in(dir / "bodies" / "piston.csv");
   ASSERT_TRUE(in) << "no bodies/piston.csv";
   std::string line;
@@ -292,12 +297,7 @@ double time_mean(const std::vector<double>& time, const std::vector<double>& val
 TEST(MovingWalls, ARollingTanksWaterWeighsOnItAndStaysInIt) {
   Case c = builtin("sloshing_roll", {"domain.dx=0.01", "time.end=3.0"});
   const auto dir = std::filesystem::temp_directory_path() / "sluice_test_rolling_tank";
-  std::filesystem::remove_all(dir);
-  RunOptions options;
-  options.output_dir = dir;
-  options.progress = RunOptions::Progress::none;
-  std::ostringstream log;
-  const RunResult result = run_case(c, options, log);
+  const RunResult result = run_into(c, dir);
   EXPECT_EQ(result.final.leaks, 0);
   EXPECT_EQ(result.final.outflow, 0);
   EXPECT_EQ(result.final.fluid_particles, 600u);
@@ -348,12 +348,7 @@ TEST(MovingWalls, ARollingTanksWaterWeighsOnItAndStaysInIt) {
 TEST(MovingWalls, ABoxTowedThroughWaterIsBuoyedAndResisted) {
   Case c = builtin("towed_box_3d", {"domain.dx=0.04", "time.end=1.2", "output.interval=0.6"});
   const auto dir = std::filesystem::temp_directory_path() / "sluice_test_towed_box";
-  std::filesystem::remove_all(dir);
-  RunOptions options;
-  options.output_dir = dir;
-  options.progress = RunOptions::Progress::none;
-  std::ostringstream log;
-  const RunResult result = run_case(c, options, log);
+  const RunResult result = run_into(c, dir);
   EXPECT_EQ(result.final.leaks, 0);
   EXPECT_EQ(result.final.outflow, 0);
 
@@ -432,13 +427,8 @@ TEST(MovingWalls, AWallLeavingTheTankBetweenTheSetUpsSamplesStopsTheRun) {
                           "wall[0].translation.period=0.00025", "wall[0].translation.ramp=0"});
   EXPECT_NO_THROW(Simulation(c, 1));
   const auto dir = std::filesystem::temp_directory_path() / "sluice_test_wall_leaves";
-  std::filesystem::remove_all(dir);
-  RunOptions options;
-  options.output_dir = dir;
-  options.progress = RunOptions::Progress::none;
-  std::ostringstream log;
   try {
-    run_case(c, options, log);
+    run_into(c, dir);
     FAIL() << "a wall shaken through the floor ran to its end";
   } catch (const InstabilityError& e) {
     const std::string message = e.what();

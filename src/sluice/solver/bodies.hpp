@@ -244,7 +244,6 @@ class Bodies {
     return {};
   }
 
-
   std::vector<Body> bodies_;
   WallMotion<Dim> motion_;
   double time_ = 0.0;

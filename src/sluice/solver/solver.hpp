@@ -79,7 +79,7 @@ struct Offender {
 struct Health {
   std::size_t offending = 0;       // how many particles are bad
   std::vector<Offender> first;     // the first few, in id order
-  std::string wall_outside;        // a moving wall outside the tank: which, when and where (else empty)
+  std::string wall_outside;        // a moving wall outside the tank: which, and where (else empty)
   [[nodiscard]] bool ok() const { return offending == 0 && wall_outside.empty(); }
 };
 
