@@ -756,6 +756,24 @@ TEST(CaseValidation, ProbesOutsideTheTank) {
 }
 
 // A probe that moves with a wall names one of the case's walls (by its name, or wallN when it has none).
+// [tank.translation] and [tank.rotation] are read as a wall's laws are, with messages that name them as
+// written; a moving tank is refused until the solver moves the tank's own walls.
+TEST(CaseValidation, TheTanksMotionTables) {
+  const std::string tank = "[tank]\nwidth = 1.0\nheight = 1.0\n" + minimal_water;
+  const std::string roll = "[tank.rotation]\nlaw = \"sinusoidal\"\ncentre = [0.5, 0.0]\namplitude = 2.0\nperiod = 1.5\n";
+  expect_contains(parse_error(tank + roll), {"the tank's own walls do not move yet", "sloshing_roll"});
+  expect_contains(parse_error(tank + "[tank.rotation]\nlaw = \"sinusoidal\"\nperiodd = 1.5\n"),
+                  {"unknown key 'periodd' in [tank.rotation]; did you mean 'period'?"});
+  expect_contains(parse_error(tank + "[tank.translation]\nlaw = \"linear\"\ndirection = [1.0, 0.0]\nspeed = \"fast\"\n"),
+                  {"tank.translation.speed"});
+  expect_contains(parse_error("[tank]\nwidth = 1.0\nrotation = 3\n" + minimal_water),
+                  {"tank.rotation must be a table, [tank.rotation]"});
+  Case c = parse(tank);
+  expect_contains(override_error(c, "tank.rotation.amplitud=2"),
+                  {"unknown key 'amplitud' in [tank.rotation]; did you mean 'tank.rotation.amplitude'?"});
+  expect_contains(override_error(c, "tank.rotation.law=sinusoidal"), {"the tank's own walls do not move yet"});
+}
+
 // release.gate: the first water region's +x face gets a plate 4 dx thick across the tank, from the
 // floor to 4 dx above the water, lifted at gate_speed until its foot is dx above the water.
 TEST(ReleaseGate, HoldsTheFirstWaterRegionBehindAPlateLiftedAtItsSpeed) {

@@ -160,6 +160,12 @@ struct Case {
   double shifting = 0.0;                // particle shifting coefficient A; 0 = off
   double free_surface_threshold = 0.0;  // div r below which a fluid particle is on the free surface
 
+  // [tank.translation], [tank.rotation]: the tank's own walls move as these laws say (a moving tank).
+  MotionLawSpec tank_translation, tank_rotation;
+  [[nodiscard]] bool tank_moves() const {
+    return tank_translation.law != MotionLawType::none || tank_rotation.law != MotionLawType::none;
+  }
+
   // [release]: the first water region held behind a gate lifted at gate_speed (case/release_gate.hpp)
   bool release_gate = false;
   double gate_speed = 1.0;  // m/s
@@ -196,6 +202,19 @@ struct Case {
     return false;
   }
 };
+
+// Calls f(law, key, rotation) for every motion law of the case, the tank's first ("tank.translation",
+// "tank.rotation"), then each wall's ("wall[0].translation", ...): for the checks and file loading that
+// treat them alike.
+template <class C, class F>
+void for_each_motion_law(C& c, F&& f) {
+  f(c.tank_translation, std::string("tank.translation"), false);
+  f(c.tank_rotation, std::string("tank.rotation"), true);
+  for (std::size_t i = 0; i < c.walls.size(); ++i) {
+    f(c.walls[i].translation, "wall[" + std::to_string(i) + "].translation", false);
+    f(c.walls[i].rotation, "wall[" + std::to_string(i) + "].rotation", true);
+  }
+}
 
 // The first Dim components of a case vector.
 template <int Dim>

@@ -83,6 +83,10 @@ class Loader {
       throw CaseError(fmt::format("{}: '{}' must be a section [{}] holding keys", where(source_, node), name, name));
     for (const auto& [sub, value] : *table) {
       const std::string key = name + "." + std::string(sub.str());
+      if (name == "tank" && (sub.str() == "translation" || sub.str() == "rotation")) {
+        read_tank_law(value, sub.str() == "rotation");
+        continue;
+      }
       const auto* p = find_param(case_params(), key);
       if (p == nullptr) fail_unknown_key(where(source_, value), key, all_keys());
       assign(c_, *p, value, where(source_, value), key, dimension_);
@@ -102,6 +106,17 @@ class Loader {
       else c_.probes.push_back(read_item(t, probe_params(), name, index));
       ++index;
     }
+  }
+
+  // [tank.translation] or [tank.rotation]: a law of the tank's own motion.
+  void read_tank_law(const toml::node& node, bool rotation) {
+    const char* part = rotation ? "rotation" : "translation";
+    const toml::table* law = node.as_table();
+    if (law == nullptr)
+      throw CaseError(fmt::format("{}: tank.{} must be a table, [tank.{}], holding its law and the law's keys",
+                                  where(source_, node), part, part));
+    (rotation ? c_.tank_rotation : c_.tank_translation) =
+        read_item(*law, motion_law_params(rotation), fmt::format("tank.{}", part), 0);
   }
 
   // A [[wall]]: a region with a name, and its [wall.translation] and [wall.rotation] tables.
@@ -144,16 +159,24 @@ class Loader {
                                     near ? fmt::format("; did you mean '{}'?", *near)
                                          : fmt::format("; expected one of: {}", fmt::join(candidates, ", "))));
       }
-      assign(item, *p, node, where(source_, node), fmt::format("{}[{}].{}", section, index, key), dimension_);
+      assign(item, *p, node, where(source_, node), key_path(section, index, key), dimension_);
       given.insert(key);
     }
     check_item_keys(item, given, t, params, section, index);
     return item;
   }
 
+  // How a message names a key of an item: water[0].max, wall[1].translation.speed; a key of the tank's
+  // motion, tank.rotation.period.
+  static std::string key_path(const std::string& section, std::size_t index, const std::string& key) {
+    if (section.starts_with("tank.")) return fmt::format("{}.{}", section, key);
+    return fmt::format("{}[{}].{}", section, index, key);
+  }
+
   // How a message names an item: "[[wall]] number 2", or for a table inside one (a wall's motion law,
   // section "wall.translation") "[wall.translation] of [[wall]] number 2".
   static std::string item_label(const std::string& section, std::size_t index) {
+    if (section.starts_with("tank.")) return fmt::format("[{}]", section);
     const auto dot = section.find('.');
     if (dot == std::string::npos) return fmt::format("[[{}]] number {}", section, index + 1);
     return fmt::format("[{}] of [[{}]] number {}", section, section.substr(0, dot), index + 1);

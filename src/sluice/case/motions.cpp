@@ -14,14 +14,11 @@ namespace sluice {
 namespace fs = std::filesystem;
 
 void load_motion_files(Case& c, const std::string& source) {
-  for (std::size_t i = 0; i < c.walls.size(); ++i)
-    for (const bool rotation : {false, true}) {
-      MotionLawSpec& m = rotation ? c.walls[i].rotation : c.walls[i].translation;
+  for_each_motion_law(c, [&](MotionLawSpec& m, const std::string& key, bool /*rotation*/) {
       if (m.law != MotionLawType::file) {
         m.series = nullptr;
-        continue;
+        return;
       }
-      const std::string key = fmt::format("wall[{}].{}", i, rotation ? "rotation" : "translation");
       const std::string written = m.file;  // as the case file says it, for messages
       const fs::path given(m.file);
       const fs::path path = given.is_absolute() || c.mesh_directory.empty() ? given : fs::path(c.mesh_directory) / given;
@@ -40,7 +37,7 @@ void load_motion_files(Case& c, const std::string& source) {
                                     "time.end = {} s; expected a file that covers the run, or {}.past_end = \"hold\" "
                                     "to keep the wall at its last position after it",
                                     source, key, quote(written), last, c.end_time, key));
-    }
+  });
 }
 
 }  // namespace sluice

@@ -142,7 +142,23 @@ void apply_one_override(Case& c, std::string_view assignment) {
   const Assignment a = split_assignment(assignment);
   static const std::regex item_key(R"(^(water|wall|probe)(?:\[(\d+)\]|\.(\d+))\.(\w+)$)");
   static const std::regex law_key(R"(^wall(?:\[(\d+)\]|\.(\d+))\.(translation|rotation)\.(\w+)$)");
+  static const std::regex tank_law_key(R"(^tank\.(translation|rotation)\.(\w+)$)");
   std::smatch m;
+  if (std::regex_match(a.key, m, tank_law_key)) {
+    const bool rotation = m[1] == "rotation";
+    const auto& params = motion_law_params(rotation);
+    const auto* p = find_param(params, m[2].str());
+    if (p == nullptr) {
+      std::vector<std::string> candidates;
+      for (const auto& q : params) candidates.push_back(q.key);
+      const auto near = closest_match(m[2].str(), candidates);
+      throw CaseError(fmt::format("{}: unknown key '{}' in [tank.{}]; {}", a.at, m[2].str(), m[1].str(),
+                                  near ? fmt::format("did you mean 'tank.{}.{}'?", m[1].str(), *near)
+                                       : fmt::format("expected one of: {}", fmt::join(candidates, ", "))));
+    }
+    set_from_text(rotation ? c.tank_rotation : c.tank_translation, *p, a.text, a.at, a.key, c.dimension);
+    return;
+  }
   if (std::regex_match(a.key, m, law_key)) {
     const std::string digits = m[1].matched ? m[1].str() : m[2].str();
     const bool rotation = m[3] == "rotation";

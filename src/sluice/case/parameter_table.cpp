@@ -404,9 +404,10 @@ std::vector<std::string> all_keys() {
   for (const auto& p : case_params()) keys.push_back(p.key);
   for (const auto& p : region_params()) keys.push_back("water." + p.key);
   for (const auto& p : wall_params()) keys.push_back("wall." + p.key);
-  for (const bool rotation : {false, true})
-    for (const auto& p : motion_law_params(rotation))
-      keys.push_back(fmt::format("wall.{}.{}", rotation ? "rotation" : "translation", p.key));
+  for (const char* owner : {"tank", "wall"})
+    for (const bool rotation : {false, true})
+      for (const auto& p : motion_law_params(rotation))
+        keys.push_back(fmt::format("{}.{}.{}", owner, rotation ? "rotation" : "translation", p.key));
   for (const auto& p : probe_params()) keys.push_back("probe." + p.key);
   return keys;
 }
