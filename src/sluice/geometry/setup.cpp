@@ -15,6 +15,7 @@
 #include "sluice/geometry/mesh_solid.hpp"
 #include "sluice/geometry/polygon.hpp"
 #include "sluice/neighbors/cell_grid.hpp"
+#include "sluice/geometry/tank_walls.hpp"
 #include "sluice/physics/eos.hpp"
 
 namespace sluice {
@@ -342,6 +343,13 @@ template <int Dim>
 Setup<Dim> build_setup(const Case& c) {
   Setup<Dim> s;
   add_tank(s, c);
+  if (c.tank_moves()) {
+    // A moving tank is one body: its slabs become one solid, the outside of its inside.
+    s.solids.clear();
+    Vec<Dim> size{};
+    for (int d = 0; d < Dim; ++d) size[d] = c.tank_size()[d];
+    s.solids.push_back(std::make_shared<TankWalls<Dim>>(size, c.tank_lid, wall_layers(c) * c.dx));
+  }
   const int layers = wall_layers(c);
   for (std::size_t k = 0; k < c.walls.size(); ++k) {
     const auto solid = region_solid<Dim>(c.walls[k]);
@@ -351,6 +359,7 @@ Setup<Dim> build_setup(const Case& c) {
   }
   const std::size_t placed = fill_water(s, c);
   std::vector<std::uint8_t> moving(body_id::first_wall + c.walls.size(), 0);
+  moving[body_id::tank] = c.tank_moves();
   for (std::size_t k = 0; k < c.walls.size(); ++k) moving[body_id::first_wall + k] = c.walls[k].moves();
   s.removed_near_coincident = remove_near_coincident(s.particles, 0.5 * c.dx, moving);
   // Water thinned is water the case asked for; wall points thinned (where a solid's layers meet inside

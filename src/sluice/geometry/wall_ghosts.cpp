@@ -58,6 +58,8 @@ WallGhosts<Dim> wall_ghosts(const Particles<Dim>& p, const Case& c) {
     const std::size_t k = p.body[i] - std::size_t{body_id::first_wall};
     if (p.body[i] >= body_id::first_wall && k < moving.size() && moving[k]) {
       moving[k]->for_each_face_point(x, consider);
+    } else if (p.body[i] == body_id::tank && c.tank_moves()) {
+      for_each_box_face_point<Dim>(inside_lo, inside_hi, x, consider);  // a moving tank: through its own faces
     } else {
       for_each_box_face_point<Dim>(inside_lo, inside_hi, x, consider);
       for (const auto& s : regions) s->for_each_face_point(x, consider);

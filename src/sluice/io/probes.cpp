@@ -119,7 +119,8 @@ Vec<Dim> probe_point(const Probe& probe, const Solver<Dim>& solver) {
   const Vec<Dim> at = first<Dim>(probe.point);
   if (probe.wall.empty()) return at;
   for (const auto& body : solver.bodies().list())
-    if (body.id >= body_id::first_wall && body.name == probe.wall) return solver.bodies().carried(body.id, at);
+    if ((body.id >= body_id::first_wall || (body.id == body_id::tank && body.moves)) && body.name == probe.wall)
+      return solver.bodies().carried(body.id, at);
   throw std::logic_error("probe_point: the probe's wall is not a body of the run");
 }
 

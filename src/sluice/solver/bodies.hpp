@@ -59,6 +59,19 @@ class Bodies {
     motion_.state.assign(bodies_.size(), BodyState<Dim>{});
     motion_.lower.assign(bodies_.size(), Vec<Dim>{});
     motion_.upper.assign(bodies_.size(), Vec<Dim>{});
+    if (c.tank_moves()) {
+      // The tank's walls: one solid, the set-up's first (geometry/tank_walls.hpp).
+      Body& body = bodies_[body_id::tank];
+      Region tank;
+      tank.translation = c.tank_translation;
+      tank.rotation = c.tank_rotation;
+      body.moves = true;
+      body.motion = rigid_motion_of<Dim>(tank);
+      body.solid = std::make_shared<MovingSolid<Dim>>(solids.front());
+      solids.front() = body.solid;
+      motion_.moving[body.id] = 1;
+      motion_.any = true;
+    }
     for (std::size_t k = 0; k < walls; ++k) {
       Body& body = bodies_[body_id::first_wall + k];
       const Region& wall = c.walls[k];
@@ -136,7 +149,7 @@ class Bodies {
   void check_inside_tank(double end, const Vec3& size, bool lid) const {
     constexpr int samples = 2000;
     for (const Body& body : bodies_) {
-      if (!body.moves) continue;
+      if (!body.moves || body.id == body_id::tank) continue;
       MovingSolid<Dim> solid(std::shared_ptr<const Solid<Dim>>(body.solid, &body.solid->shape()));
       for (int s = 0; s <= samples; ++s) {
         const double t = end * s / samples;
@@ -156,7 +169,7 @@ class Bodies {
   // set-up's samples may miss a motion faster than them.
   [[nodiscard]] std::string outside_tank(const Vec3& size, bool lid) const {
     for (const Body& body : bodies_) {
-      if (!body.moves) continue;
+      if (!body.moves || body.id == body_id::tank) continue;
       const Exit exit = exit_of(body, body.solid->lower(), body.solid->upper(), size, lid);
       if (!exit.what.empty()) return fmt::format("{} ({}){}", exit.what, exit.where, exit.hint);
     }

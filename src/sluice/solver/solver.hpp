@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -249,6 +250,8 @@ class Solver {
   Particles<Dim> particles_;
   Solids<Dim> solids_;
   Bodies<Dim> bodies_;
+  // A moving tank: the box its walls sweep over the run, which the reach of the water takes in.
+  std::optional<std::pair<Vec<Dim>, Vec<Dim>>> tank_swept_;
   // mDBC with moving walls: the ghost nodes, those of moving bodies' particles carried to the current
   // pose from their start (ghost_start_, by id) by advance_walls.
   std::shared_ptr<WallGhosts<Dim>> ghosts_;

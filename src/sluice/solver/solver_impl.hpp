@@ -175,6 +175,7 @@ void Solver<Dim>::init(const Case& c, const Particles<Dim>& built) {
   }
   // A moving wall's reach: the box it sweeps over the run, in place of its shape.
   const Solids<Dim> swept = bodies_.swept(c.end_time, 2.0 * h);
+  if (c.tank_moves()) tank_swept_ = std::pair{swept.front()->lower(), swept.front()->upper()};
   Solids<Dim> reach_solids;
   for (const auto& solid : solids_)
     if (!dynamic_cast<const MovingSolid<Dim>*>(solid.get())) reach_solids.push_back(solid);
@@ -465,6 +466,13 @@ typename Solver<Dim>::Reach Solver<Dim>::reach() const {
     r.upper[d] = size[d] + margin;
   }
   r.top = size[up] + (case_.tank_lid ? margin : 10.0 * std::max(size[up], margin));
+  if (tank_swept_) {  // a moving tank carries its water within the box its walls sweep
+    for (int d = 0; d < Dim; ++d) {
+      r.lower[d] = std::min(r.lower[d], tank_swept_->first[d] - margin);
+      r.upper[d] = std::max(r.upper[d], tank_swept_->second[d] + margin);
+    }
+    r.top = std::max(r.top, tank_swept_->second[up] + (case_.tank_lid ? margin : r.top - size[up]));
+  }
   return r;
 }
 
