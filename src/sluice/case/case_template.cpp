@@ -55,6 +55,23 @@ class TemplateWriter {
       describe(p, "");
       out_ += fmt::format("{} = {}\n", p.key.substr(s.name.size() + 1), format_value(current_value(c_, p), c_.dimension));
     }
+    if (s.name == "tank") write_tank_motion();
+  }
+
+  // A moving tank's [tank.translation] and [tank.rotation] tables (the keys of a wall's, described with
+  // the walls').
+  void write_tank_motion() {
+    comment("The tank's own walls move when [tank.translation] or [tank.rotation] gives a law: the keys of a "
+            "wall's [wall.translation] and [wall.rotation] (see [[wall]] below).",
+            "");
+    for (const bool rotation : {false, true}) {
+      const MotionLawSpec& law = rotation ? c_.tank_rotation : c_.tank_translation;
+      if (law.law == MotionLawType::none) continue;
+      out_ += fmt::format("[tank.{}]\n", rotation ? "rotation" : "translation");
+      for (const auto& p : motion_law_params(rotation))
+        if ((p.applies == nullptr || p.applies(law)) && !(p.only_3d && c_.dimension != 3))
+          out_ += fmt::format("{} = {}\n", p.key, format_value(current_value(law, p), c_.dimension));
+    }
   }
 
   // The keys of [[name]] described once in comments, then each item with the keys it uses.
