@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <fstream>
+#include <limits>
 #include <numbers>
 #include <sstream>
 #include <string_view>
@@ -53,6 +55,11 @@ LawValue PolynomialLaw::at(double t) const {
   const LawValue e = polynomial(end_ - start_);
   if (after_ == AfterInterval::hold) return {e.value, 0.0, 0.0};
   return {e.value + e.rate * (t - end_), e.rate, 0.0};
+}
+
+double PolynomialLaw::settled_after() const {
+  if (after_ == AfterInterval::hold || polynomial(end_ - start_).rate == 0.0) return end_;
+  return std::numeric_limits<double>::infinity();
 }
 
 SinusoidalLaw::SinusoidalLaw(double amplitude, double period, double phase, double start, double ramp_periods)

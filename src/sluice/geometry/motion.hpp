@@ -11,6 +11,7 @@
 // or one per axis; a rotation is one of them as the angle.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
@@ -42,6 +43,9 @@ class ScalarLaw {
   [[nodiscard]] virtual LawValue at(double t) const = 0;
   // Bounds of |value| over [0, end] (used to check at set-up that a body stays in the tank).
   [[nodiscard]] virtual double largest_magnitude(double end) const;
+  // A time after which the law takes no value it has not taken before (it holds, or repeats a
+  // period): infinity if there is none. What a body sweeps up to this time is all it ever sweeps.
+  [[nodiscard]] virtual double settled_after() const = 0;
 };
 
 // What a law does after the interval it is given over.
@@ -52,6 +56,7 @@ class LinearLaw final : public ScalarLaw {
  public:
   LinearLaw(double rate, double start, double end);
   [[nodiscard]] LawValue at(double t) const override;
+  [[nodiscard]] double settled_after() const override { return end_; }
 
  private:
   double rate_, start_, end_;
@@ -63,6 +68,7 @@ class PolynomialLaw final : public ScalarLaw {
  public:
   PolynomialLaw(std::vector<double> coefficients, double start, double end, AfterInterval after);
   [[nodiscard]] LawValue at(double t) const override;
+  [[nodiscard]] double settled_after() const override;
 
  private:
   [[nodiscard]] LawValue polynomial(double tau) const;
@@ -80,6 +86,8 @@ class SinusoidalLaw final : public ScalarLaw {
   SinusoidalLaw(double amplitude, double period, double phase, double start, double ramp_periods);
   [[nodiscard]] LawValue at(double t) const override;
   [[nodiscard]] double largest_magnitude(double end) const override;
+  // The ramp and one whole period after it: every value it will take.
+  [[nodiscard]] double settled_after() const override { return start_ + (ramp_periods_ + 1.0) * period_; }
 
  private:
   double amplitude_, period_, phase_, start_, ramp_periods_;
@@ -96,6 +104,7 @@ class TableLaw final : public ScalarLaw {
   TableLaw(std::vector<double> times, std::vector<double> values);
   [[nodiscard]] LawValue at(double t) const override;
   [[nodiscard]] double largest_magnitude(double end) const override;
+  [[nodiscard]] double settled_after() const override { return t_.back(); }
   [[nodiscard]] double first_time() const { return t_.front(); }
   [[nodiscard]] double last_time() const { return t_.back(); }
 
@@ -142,6 +151,16 @@ struct BodyState {
 
 template <int Dim>
 BodyState<Dim> body_state(const RigidMotion<Dim>& motion, double t);
+
+// The time after which neither law takes a new value (0 for a body that does not move; infinity if a
+// law never settles): a body's poses up to it are all the poses it ever takes.
+template <int Dim>
+double settled_after(const RigidMotion<Dim>& motion) {
+  double t = 0.0;
+  if (motion.translation) t = std::max(t, motion.translation->settled_after());
+  if (motion.rotation) t = std::max(t, motion.rotation->settled_after());
+  return t;
+}
 
 // Where a point of the body that was at `start` is, and its velocity and acceleration.
 template <int Dim>

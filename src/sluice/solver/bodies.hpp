@@ -203,7 +203,7 @@ class Bodies {
     }
   }
 
-  // Boxes that hold everything each moving body's shape covers over [0, end] (sampled, and grown by
+  // Boxes that hold everything each moving body's shape covers over the run (sampled, and grown by
   // the most a sample's bounds moved from the one before plus `margin`): where the leak and friction
   // checks must look, and where the cell grid must reach.
   [[nodiscard]] Solids<Dim> swept(double end, double margin) const {
@@ -211,11 +211,15 @@ class Bodies {
     constexpr int samples = 2000;
     for (const Body& body : bodies_) {
       if (!body.moves) continue;
+      // Up to when its laws settle, where they do, so that the box (and the grid that covers it) is
+      // the same for a run and its restart with a later end.
+      const double settled = settled_after(body.motion);
+      const double until = std::isfinite(settled) ? std::max(settled, 1e-9) : end;
       MovingSolid<Dim> solid(std::shared_ptr<const Solid<Dim>>(body.solid, &body.solid->shape()));
       Vec<Dim> lo{}, hi{}, last_lo{}, last_hi{};
       double jump = 0.0;
       for (int s = 0; s <= samples; ++s) {
-        solid.set_state(body_state<Dim>(body.motion, end * s / samples));
+        solid.set_state(body_state<Dim>(body.motion, until * s / samples));
         const Vec<Dim> l = solid.lower(), u = solid.upper();
         for (int d = 0; d < Dim; ++d) {
           if (s > 0) jump = std::max({jump, std::abs(l[d] - last_lo[d]), std::abs(u[d] - last_hi[d])});
