@@ -14,6 +14,7 @@
 #include "sluice/geometry/leaks.hpp"
 #include "sluice/geometry/polygon.hpp"
 #include "sluice/geometry/setup.hpp"
+#include "sluice/geometry/tank_walls.hpp"
 #include "sluice/geometry/wall_ghosts.hpp"
 #include "sluice/physics/eos.hpp"
 
@@ -551,6 +552,46 @@ Vec2 ghost_of(const WallGhosts<2>& g, const Particles<2>& p, double x, double y)
     }
   ADD_FAILURE() << "no wall particle at " << x << ", " << y;
   return {};
+}
+
+// The walls of a tank that moves, as one solid: everything outside the inside [0, size] (open upwards
+// without a lid). Inside, the distance to the nearest face and its normal into the tank; in the walls,
+// minus the distance to the inside; in a corner both faces are within reach; the bounds are the wall
+// layers' (to the side walls' top when open).
+TEST(TankWalls, TheOutsideOfTheTanksInside) {
+  const TankWalls<2> closed(Vec<2>{0.6, 0.3}, true, 0.04);
+  EXPECT_FALSE(closed.contains({0.3, 0.1}));
+  EXPECT_TRUE(closed.contains({-0.01, 0.1}));
+  EXPECT_TRUE(closed.contains({0.3, 0.31}));
+  EXPECT_DOUBLE_EQ(closed.signed_distance({0.3, 0.02}), 0.02);
+  EXPECT_NEAR(closed.signed_distance({0.3, 0.27}), 0.03, 1e-15);
+  EXPECT_NEAR(closed.signed_distance({-0.03, -0.04}), -0.05, 1e-15);
+  const SurfacePoint<2> floor = closed.closest_surface_point({0.3, 0.02});
+  EXPECT_EQ(floor.point[1], 0.0);
+  EXPECT_EQ(floor.normal[1], 1.0);
+  const SurfacePoint<2> lid = closed.closest_surface_point({0.3, 0.29});
+  EXPECT_EQ(lid.point[1], 0.3);
+  EXPECT_EQ(lid.normal[1], -1.0);
+  const SurfacePoint<2> below = closed.closest_surface_point({0.2, -0.02});
+  EXPECT_EQ(below.point[1], 0.0);
+  EXPECT_EQ(below.normal[1], 1.0);  // out of the walls, into the tank
+  int faces = 0;
+  closed.for_each_face_outside({0.001, 0.002}, 0.005, [&](const Vec<2>& foot, const Vec<2>& normal) {
+    ++faces;
+    EXPECT_NEAR(foot[0] * normal[0] + foot[1] * normal[1], 0.0, 1e-15);
+  });
+  EXPECT_EQ(faces, 2);
+  EXPECT_NEAR(closed.lower()[0], -0.04, 1e-15);
+  EXPECT_NEAR(closed.upper()[1], 0.34, 1e-15);
+
+  const TankWalls<2> open(Vec<2>{0.6, 0.3}, false, 0.04);
+  EXPECT_FALSE(open.contains({0.3, 0.5}));  // above an open tank is not wall
+  EXPECT_TRUE(open.contains({0.61, 0.5}) && open.contains({0.3, -0.01}));
+  EXPECT_NEAR(open.upper()[1], 0.3, 1e-15);
+  const TankWalls<3> box(Vec<3>{1.0, 0.5, 0.4}, true, 0.05);
+  faces = 0;
+  box.for_each_face_outside({0.001, 0.499, 0.399}, 0.01, [&](const Vec<3>&, const Vec<3>&) { ++faces; });
+  EXPECT_EQ(faces, 3);  // a corner of the box: three faces
 }
 
 }  // namespace

@@ -90,6 +90,26 @@ TEST(MotionLaws, SinusoidStartsAtRestUnderItsRampAndDerivativesAreExact) {
   EXPECT_GE(plain.largest_magnitude(10.0), plain.at(0.5 + 0.25 * period).value);
 }
 
+// When a law stops taking new values: the end of a linear or held polynomial law, the ramp and one
+// period of a sinusoid, a series' last time; never for a polynomial that continues at a rate. A body's
+// sweep up to then is all it sweeps, whatever the run's end.
+TEST(MotionLaws, EachLawSaysWhenItTakesNoNewValue) {
+  EXPECT_EQ(LinearLaw(0.2, 1.0, 3.0).settled_after(), 3.0);
+  EXPECT_EQ(PolynomialLaw({0.0, 1.0}, 0.5, 2.0, AfterInterval::hold).settled_after(), 2.0);
+  EXPECT_TRUE(std::isinf(PolynomialLaw({0.0, 1.0}, 0.5, 2.0, AfterInterval::continue_).settled_after()));
+  EXPECT_EQ(PolynomialLaw({0.0, 0.0, 3.0, -1.0}, 0.0, 2.0, AfterInterval::continue_).settled_after(), 2.0);  // at rest at its end
+  const SinusoidalLaw ramped(0.1, 1.5, 0.0, 0.5, 2.0);
+  EXPECT_DOUBLE_EQ(ramped.settled_after(), 0.5 + 3.0 * 1.5);
+  for (double t : {5.2, 6.1, 9.9})  // later values are ones it took in its last period before then
+    EXPECT_NEAR(ramped.at(t).value, ramped.at(t - 1.5 * std::ceil((t - 5.0) / 1.5)).value, 1e-12);
+  EXPECT_EQ(TableLaw({0.0, 1.0, 4.0}, {0.0, 1.0, 2.0}).settled_after(), 4.0);
+  RigidMotion<2> motion;
+  EXPECT_EQ(settled_after(motion), 0.0);
+  motion.translation = std::make_shared<LinearLaw>(0.2, 1.0, 3.0);
+  motion.rotation = std::make_shared<SinusoidalLaw>(0.1, 1.5, 0.0, 0.5, 2.0);
+  EXPECT_DOUBLE_EQ(settled_after(motion), 5.0);
+}
+
 // A recorded series: the natural cubic spline passes through every sample, its rate and acceleration
 // are continuous across them, and on a dense sampling of a sine it gives the sine's acceleration.
 TEST(MotionLaws, TableSplineIsTwiceDifferentiable) {

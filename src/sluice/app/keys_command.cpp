@@ -67,20 +67,26 @@ toml::table describe(const Param<Owner>& p, const std::string& key, const std::s
   return t;
 }
 
+// A body's [<section>.translation] and [<section>.rotation] keys: a wall's, or the tank's own walls'.
+void add_motion_laws(toml::array& keys, const std::string& section, bool item) {
+  for (const bool rotation : {false, true})
+    for (const auto& p : motion_law_params(rotation))
+      keys.push_back(describe(p, fmt::format("{}.{}.{}", section, rotation ? "rotation" : "translation", p.key),
+                              section, item));
+}
+
 toml::array all_descriptions() {
   toml::array keys;
   for (const auto& s : case_sections()) {
     if (!s.is_array) {
       for (const auto& p : case_params())
         if (p.key.rfind(s.name + ".", 0) == 0) keys.push_back(describe(p, p.key, s.name, false));
+      if (s.name == "tank") add_motion_laws(keys, "tank", false);
     } else if (s.name == "probe") {
       for (const auto& p : probe_params()) keys.push_back(describe(p, s.name + "." + p.key, s.name, true));
     } else if (s.name == "wall") {
       for (const auto& p : wall_params()) keys.push_back(describe(p, s.name + "." + p.key, s.name, true));
-      for (const bool rotation : {false, true})
-        for (const auto& p : motion_law_params(rotation))
-          keys.push_back(describe(p, fmt::format("wall.{}.{}", rotation ? "rotation" : "translation", p.key),
-                                  s.name, true));
+      add_motion_laws(keys, "wall", true);
     } else {
       for (const auto& p : region_params()) keys.push_back(describe(p, s.name + "." + p.key, s.name, true));
     }

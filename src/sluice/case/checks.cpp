@@ -249,6 +249,10 @@ struct Checker {
   // A probe that moves with a wall names one of the case's walls.
   void check_probe_wall(const Probe& p) const {
     if (p.wall.empty() || (p.wall == "tank" && c.tank_moves())) return;
+    if (p.wall == "tank")
+      fail(fmt::format("[[probe]] {}: wall = \"tank\" moves the probe with the tank's own walls, but this case's tank "
+                       "does not move; expected a [tank.translation] or [tank.rotation] law, or no wall key",
+                       quote(p.name)));
     std::vector<std::string> names;
     for (const Region& w : c.walls) {
       if (w.name == p.wall) return;
@@ -314,6 +318,14 @@ struct Checker {
       if (!names.insert(w.name).second)
         fail(fmt::format("wall[{}].name = {}: another wall has that name; expected each wall's name once", i,
                          quote(w.name)));
+      if (w.name == "tank" || w.name == "water")
+        fail(fmt::format("wall[{}].name = {}: that name belongs to the {} (bodies/{}.csv); expected another name", i,
+                         quote(w.name), w.name == "tank" ? "tank's own walls" : "water", w.name));
+      // A wall fixed in space inside a tank that moves would cut through the tank's walls or its water.
+      if (c.tank_moves() && !w.moves())
+        fail(fmt::format("wall[{}] ({}) is fixed while the tank moves; expected it to move with the tank (give it "
+                         "the tank's [tank.translation] / [tank.rotation] laws as its own) or another motion",
+                         i, quote(w.name)));
     }
     for_each_motion_law(c, [&](const MotionLawSpec& m, const std::string& key, bool rotation) {
       if (m.law == MotionLawType::none) return;

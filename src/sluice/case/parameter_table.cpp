@@ -88,7 +88,7 @@ const std::vector<Section>& case_sections() {
   static const std::vector<Section> sections = {
       {"case", "What this case is.", false},
       {"domain", "Discretisation.", false},
-      {"tank", "The closed box tank: inner walls at x = 0 and x = width (and in 3D y = 0 and y = depth), the floor at up = 0 and (with a lid) the top at up = height; up is y in 2D, z in 3D.", false},
+      {"tank", "The closed box tank: inner walls at x = 0 and x = width (and in 3D y = 0 and y = depth), the floor at up = 0 and (with a lid) the top at up = height; up is y in 2D, z in 3D. The tank is fixed unless [tank.translation] or [tank.rotation] gives it a motion law (as a [[wall]]'s): then its walls move by the law and carry the water (a rolling or shaken tank).", false},
       {"fluid", "Fluid properties and the weakly-compressible equation of state.", false},
       {"physics", "Forces and stabilisation.", false},
       {"release", "How the water is released: at once (the default), or from behind a gate lifted as in a laboratory.", false},
@@ -392,9 +392,10 @@ const std::vector<Param<Probe>>& probe_params() {
               "particle spacing are not water level, as for a wire gauge)."),
       declare("interval", &Probe::interval, "s", 0.0, 0.0, 1e300, "Sampling interval; 0 = every step."),
       declare("wall", &Probe::wall, "", std::string(""), unbounded_lower, unbounded_upper,
-              "The name of the [[wall]] the probe moves with: `point` is where it is at the start, and it is "
-              "carried by that wall's motion (a pressure sensor on a rolling tank's side, a gauge on a moving "
-              "body); a gauge's line stays vertical and a front's direction fixed. Empty: fixed in space."),
+              "The name of the [[wall]] the probe moves with, or \"tank\" in a case whose tank moves: `point` is "
+              "where it is at the start, and it is carried by that wall's motion (a pressure sensor on a rolling "
+              "tank's side, a gauge on a moving body); a gauge's line stays vertical and a front's direction "
+              "fixed. Empty: fixed in space."),
   };
   return params;
 }
