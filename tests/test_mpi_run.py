@@ -124,6 +124,49 @@ def test_a_moving_gate_across_the_processes_matches_one_process():
         check(worst < POSITION_TOLERANCE, f"moving gate, {processes} processes: positions differ by {worst} m")
 
 
+ROLLED_TANK = """
+[case]
+name = "rolled_tank"
+[domain]
+dx = 0.01
+[tank]
+width = 0.6
+height = 0.3
+lid = true
+[tank.rotation]
+law = "sinusoidal"
+centre = [0.3, 0.15]
+amplitude = 6.0
+period = 1.0
+[fluid]
+sound_speed = 15.0
+[time]
+end = 0.3
+[output]
+interval = 0.1
+[[water]]
+min = [0.0, 0.0]
+max = [0.6, 0.1]
+"""
+
+
+def test_a_moving_tank_across_the_processes_matches_one_process():
+    # The tank's own walls rolled by 6 degrees: every process's wall particles and ghost nodes move, and
+    # cross from one process to another.
+    case = os.path.join(W, "rolled_tank.toml")
+    with open(case, "w") as f:
+        f.write(ROLLED_TANK)
+    reference = os.path.join(W, "tank_serial")
+    run(args.sluice, case, "-o", reference)
+    for processes in (2, 3):
+        d = os.path.join(W, f"tank_np{processes}")
+        mpirun(processes, case, "-o", d)
+        worst = largest_difference(reference, d, f"moving tank, {processes} processes vs 1")
+        print(f"  moving tank, {processes} processes: largest position difference from one process {worst:.3g} m",
+              flush=True)
+        check(worst < POSITION_TOLERANCE, f"moving tank, {processes} processes: positions differ by {worst} m")
+
+
 def test_an_output_error_stops_every_process_with_one_message():
     blocker = os.path.join(W, "a_file")
     with open(blocker, "w") as f:
@@ -206,6 +249,7 @@ def _name(stat_path):
 main([test_frames_probes_and_diagnostics_match_one_process, test_two_processes_of_two_threads_match_one_process,
       test_checkpoint_of_three_processes_restarts_on_two_and_on_one,
       test_a_moving_gate_across_the_processes_matches_one_process,
+      test_a_moving_tank_across_the_processes_matches_one_process,
       test_an_output_error_stops_every_process_with_one_message,
       test_an_unstable_run_stops_every_process_and_keeps_the_last_good_state,
       test_a_process_out_of_memory_stops_every_process_with_its_message,
