@@ -761,7 +761,21 @@ TEST(CaseValidation, ProbesOutsideTheTank) {
 TEST(CaseValidation, TheTanksMotionTables) {
   const std::string tank = "[tank]\nwidth = 1.0\nheight = 1.0\n" + minimal_water;
   const std::string roll = "[tank.rotation]\nlaw = \"sinusoidal\"\ncentre = [0.5, 0.0]\namplitude = 2.0\nperiod = 1.5\n";
-  expect_contains(parse_error(tank + roll), {"the tank's own walls do not move yet", "sloshing_roll"});
+  const Case rolled = parse(tank + roll);
+  EXPECT_TRUE(rolled.tank_moves());
+  EXPECT_EQ(rolled.tank_rotation.law, MotionLawType::sinusoidal);
+  EXPECT_EQ(rolled.tank_rotation.period, 1.5);
+  EXPECT_EQ(rolled.tank_translation.law, MotionLawType::none);
+  const std::string baffle = "[[wall]]\nname = \"baffle\"\nmin = [0.4, 0.0]\nmax = [0.45, 0.3]\n";
+  expect_contains(parse_error(tank + roll + baffle),
+                  {"wall[0] (\"baffle\") is fixed while the tank moves", "the tank's [tank.translation] / [tank.rotation]"});
+  (void)parse(tank + roll + baffle + "[wall.rotation]\nlaw = \"sinusoidal\"\ncentre = [0.5, 0.0]\namplitude = 2.0\nperiod = 1.5\n");
+  expect_contains(parse_error(tank + "[[wall]]\nname = \"tank\"\nmin = [0.4, 0.0]\nmax = [0.45, 0.3]\n"),
+                  {"wall[0].name = \"tank\": that name belongs to the tank's own walls"});
+  const std::string probe = "[[probe]]\nname = \"p\"\ntype = \"pressure\"\npoint = [0.0, 0.02]\nwall = \"tank\"\n";
+  EXPECT_EQ(parse(tank + roll + probe).probes[0].wall, "tank");
+  expect_contains(parse_error(tank + probe), {"wall = \"tank\" moves the probe with the tank's own walls",
+                                              "this case's tank does not move"});
   expect_contains(parse_error(tank + "[tank.rotation]\nlaw = \"sinusoidal\"\nperiodd = 1.5\n"),
                   {"unknown key 'periodd' in [tank.rotation]; did you mean 'period'?"});
   expect_contains(parse_error(tank + "[tank.translation]\nlaw = \"linear\"\ndirection = [1.0, 0.0]\nspeed = \"fast\"\n"),
@@ -771,7 +785,11 @@ TEST(CaseValidation, TheTanksMotionTables) {
   Case c = parse(tank);
   expect_contains(override_error(c, "tank.rotation.amplitud=2"),
                   {"unknown key 'amplitud' in [tank.rotation]; did you mean 'tank.rotation.amplitude'?"});
-  expect_contains(override_error(c, "tank.rotation.law=sinusoidal"), {"the tank's own walls do not move yet"});
+  expect_contains(override_error(c, "tank.rotation.law=sinusoidal"), {"tank.rotation.period"});
+  apply_overrides(c, {"tank.translation.law=linear", "tank.translation.direction=[1.0, 0.0]", "tank.translation.speed=0.1",
+                      "tank.translation.end=1.0"});
+  EXPECT_TRUE(c.tank_moves());
+  EXPECT_EQ(c.tank_translation.speed, 0.1);
 }
 
 // release.gate: the first water region's +x face gets a plate 4 dx thick across the tank, from the

@@ -337,6 +337,10 @@ struct Checker {
                          format_vector(v, c.dimension), rotation ? "axis of rotation" : "direction of motion"));
       if ((m.law == MotionLawType::linear || m.law == MotionLawType::polynomial) && !(m.end > m.start))
         fail(fmt::format("{}.end = {} s is not after its start, {} s; expected end > start", key, m.end, m.start));
+      if (m.law == MotionLawType::sinusoidal && !(m.period > 0.0))
+        fail(fmt::format("{}.period = {} s: a sinusoidal law needs its period; expected a period > 0", key, m.period));
+      if (m.law == MotionLawType::polynomial && m.coefficients.empty())
+        fail(fmt::format("{}.coefficients is empty: a polynomial law needs them; expected [c0, c1, ...]", key));
     });
   }
 
