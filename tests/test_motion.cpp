@@ -8,16 +8,19 @@
 #include <fstream>
 #include <memory>
 #include <numbers>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "sluice/case/load.hpp"
 #include "sluice/case/motions.hpp"
+#include "sluice/case/rigid_motion.hpp"
 #include "sluice/case/case_error.hpp"
 #include "sluice/geometry/box.hpp"
 #include "sluice/geometry/motion.hpp"
 #include "sluice/geometry/moving_solid.hpp"
 #include "sluice/geometry/polygon.hpp"
+#include "sluice/geometry/wave_theory.hpp"
 
 namespace sluice {
 namespace {
@@ -108,6 +111,77 @@ TEST(MotionLaws, EachLawSaysWhenItTakesNoNewValue) {
   motion.translation = std::make_shared<LinearLaw>(0.2, 1.0, 3.0);
   motion.rotation = std::make_shared<SinusoidalLaw>(0.1, 1.5, 0.0, 0.5, 2.0);
   EXPECT_DOUBLE_EQ(settled_after(motion), 5.0);
+}
+
+// The dispersion relation omega^2 = g k tanh(kh) solved to machine precision from deep to shallow
+// water, with its deep (k = omega^2/g) and shallow (k = omega/sqrt(g h)) limits.
+TEST(WaveTheory, TheWavenumberSolvesTheDispersionRelation) {
+  const double g = 9.81;
+  for (double period : {0.5, 1.2, 2.0, 5.0, 20.0})
+    for (double depth : {0.01, 0.1, 0.4, 1.0, 10.0, 1000.0}) {
+      const double omega = 2.0 * std::numbers::pi / period;
+      const double k = waves::wavenumber(omega, depth, g);
+      // To the few units in the last place that evaluating the relation itself rounds by.
+      EXPECT_NEAR(g * k * std::tanh(k * depth) / (omega * omega), 1.0, 1e-15) << period << " s, " << depth << " m";
+    }
+  const double omega = 2.0 * std::numbers::pi / 1.0;
+  EXPECT_NEAR(waves::wavenumber(omega, 1000.0, g), omega * omega / g, 1e-12);
+  EXPECT_NEAR(waves::wavenumber(2.0 * std::numbers::pi / 100.0, 0.01, g) * std::sqrt(g * 0.01) / (2.0 * std::numbers::pi / 100.0),
+              1.0, 1e-6);
+  EXPECT_THROW((void)waves::wavenumber(0.0, 1.0), std::invalid_argument);
+  EXPECT_THROW((void)waves::wavenumber(1.0, -1.0), std::invalid_argument);
+}
+
+// Biesel's transfer functions: the piston's H/S is kh in shallow water and 2 in deep water; a flap
+// hinged at the floor makes half the piston's wave in shallow water and the same in deep water; a
+// flap hinged higher makes less, and none as its hinge reaches the surface.
+TEST(WaveTheory, TransferFunctionsHaveTheirShallowAndDeepLimits) {
+  for (double kh : {1e-3, 1e-2}) {
+    EXPECT_NEAR(waves::piston_height_per_stroke(kh) / kh, 1.0, kh);
+    EXPECT_NEAR(waves::flap_height_per_stroke(kh, 1.0, 0.0) / (0.5 * kh), 1.0, kh);
+  }
+  EXPECT_NEAR(waves::piston_height_per_stroke(20.0), 2.0, 1e-12);
+  EXPECT_NEAR(waves::flap_height_per_stroke(20.0, 1.0, 0.0), 2.0, 0.1);  // 2 - 2/kh
+  const double k = 2.0;  // kh = 2 on h = 1 m
+  EXPECT_LT(waves::flap_height_per_stroke(k, 1.0, 0.0), waves::piston_height_per_stroke(2.0));
+  EXPECT_LT(waves::flap_height_per_stroke(k, 1.0, 0.1), waves::flap_height_per_stroke(k, 1.0, 0.0));
+  EXPECT_NEAR(waves::flap_height_per_stroke(k, 1.0, 1.0 - 1e-7), 0.0, 1e-6);
+  // A regular wave's figures: T = 2 s on h = 1 m.
+  const waves::RegularWave w = waves::regular_wave(0.1, 2.0, 1.0);
+  EXPECT_NEAR(w.wavelength, 2.0 * std::numbers::pi / w.k, 1e-12);
+  EXPECT_NEAR(w.celerity, w.wavelength / 2.0, 1e-12);
+  EXPECT_GT(w.group_velocity, 0.5 * w.celerity);
+  EXPECT_LT(w.group_velocity, w.celerity);
+  EXPECT_NEAR(w.miche_steepness, 0.142 * std::tanh(w.kh), 1e-15);
+}
+
+// A piston's wave law: (S/2) sin(omega t) with S = H / (H/S), grown over its ramp; second order adds
+// Madsen's term at twice the frequency; the rates and accelerations are exact.
+TEST(WaveTheory, APistonsLawIsTheStrokeTheTheoryGives) {
+  Region paddle;
+  paddle.translation.law = MotionLawType::wave;
+  paddle.translation.direction = {1.0, 0.0, 0.0};
+  paddle.translation.height = 0.08;
+  paddle.translation.period = 1.2;
+  paddle.translation.depth = 0.4;
+  paddle.translation.ramp = 2.0;
+  const double omega = 2.0 * std::numbers::pi / 1.2, k = waves::wavenumber(omega, 0.4);
+  const double half_stroke = 0.5 * 0.08 / waves::piston_height_per_stroke(k * 0.4);
+  const RigidMotion<2> first = rigid_motion_of<2>(paddle);
+  for (double t : {2.5, 3.0, 4.45, 7.1})  // after the ramp (2.4 s)
+    EXPECT_NEAR(first.translation->at(t).value, half_stroke * std::sin(omega * t), 1e-15);
+  for (double t : {0.3, 1.7, 3.3}) expect_derivatives(*first.translation, t, 1.0);
+  EXPECT_NEAR(first.translation->at(1e-9).value, 0.0, 1e-15);
+  EXPECT_DOUBLE_EQ(first.translation->settled_after(), 3.0 * 1.2);
+
+  paddle.translation.order = 2;
+  paddle.translation.gain = 1.1;
+  const RigidMotion<2> second = rigid_motion_of<2>(paddle);
+  const double x2 = waves::madsen_second_order_amplitude(0.08, k, 0.4);
+  for (double t : {2.5, 4.45})
+    EXPECT_NEAR(second.translation->at(t).value, 1.1 * (half_stroke * std::sin(omega * t) + x2 * std::sin(2.0 * omega * t)),
+                1e-15);
+  for (double t : {0.3, 1.7, 3.3}) expect_derivatives(*second.translation, t, 1.0);
 }
 
 // A recorded series: the natural cubic spline passes through every sample, its rate and acceleration

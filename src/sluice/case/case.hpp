@@ -49,8 +49,9 @@ enum class GaugeMeasure { highest, column };
 inline constexpr std::array<std::string_view, 2> gauge_measure_names = {"highest", "column"};
 
 // A wall's prescribed motion: a law for its translation and one for its rotation (geometry/motion.hpp).
-enum class MotionLawType { none, linear, polynomial, sinusoidal, file };
-inline constexpr std::array<std::string_view, 5> motion_law_names = {"none", "linear", "polynomial", "sinusoidal", "file"};
+enum class MotionLawType { none, linear, polynomial, sinusoidal, file, wave };
+inline constexpr std::array<std::string_view, 6> motion_law_names = {"none",       "linear", "polynomial",
+                                                                      "sinusoidal", "file",   "wave"};
 enum class AfterMotion { hold, continue_ };
 inline constexpr std::array<std::string_view, 2> after_motion_names = {"hold", "continue"};
 enum class PastFileEnd { error, hold };
@@ -79,6 +80,10 @@ struct MotionLawSpec {
   std::string time_column, column;
   double scale = 1.0, time_offset = 0.0;
   PastFileEnd past_end = PastFileEnd::error;
+  // wave: a piston making regular waves of `height` and `period` on water `depth` deep, first or
+  // second order (Madsen), its stroke times `gain`, ramped over `ramp` periods from `start`.
+  double height = 0.0, depth = 0.0, gain = 1.0;
+  int order = 1;
   std::shared_ptr<const MotionSeries> series;  // file: the series read (set by the loader, not a key)
 };
 

@@ -337,11 +337,24 @@ struct Checker {
                          format_vector(v, c.dimension), rotation ? "axis of rotation" : "direction of motion"));
       if ((m.law == MotionLawType::linear || m.law == MotionLawType::polynomial) && !(m.end > m.start))
         fail(fmt::format("{}.end = {} s is not after its start, {} s; expected end > start", key, m.end, m.start));
-      if (m.law == MotionLawType::sinusoidal && !(m.period > 0.0))
-        fail(fmt::format("{}.period = {} s: a sinusoidal law needs its period; expected a period > 0", key, m.period));
+      if ((m.law == MotionLawType::sinusoidal || m.law == MotionLawType::wave) && !(m.period > 0.0))
+        fail(fmt::format("{}.period = {} s: a {} law needs its period; expected a period > 0", key, m.period,
+                         name_of(m.law, motion_law_names)));
+      if (m.law == MotionLawType::wave) check_wave_maker(m, key, rotation);
       if (m.law == MotionLawType::polynomial && m.coefficients.empty())
         fail(fmt::format("{}.coefficients is empty: a polynomial law needs them; expected [c0, c1, ...]", key));
     });
+  }
+
+  // A wave maker: a piston (a translation) with the wave's height and the water's depth.
+  void check_wave_maker(const MotionLawSpec& m, const std::string& key, bool rotation) const {
+    if (rotation)
+      fail(fmt::format("{}.law = \"wave\": a wave maker is a piston, [wall.translation]; a flap (a rotation) is not "
+                       "available; expected law = \"wave\" in a translation table",
+                       key));
+    if (!(m.height > 0.0)) fail(fmt::format("{}.height = {} m: expected the waves' height, > 0", key, m.height));
+    if (!(m.depth > 0.0)) fail(fmt::format("{}.depth = {} m: expected the still water's depth at the piston, > 0", key, m.depth));
+    if (m.order != 1 && m.order != 2) fail(fmt::format("{}.order = {}: expected 1 or 2", key, m.order));
   }
 
   // The set-up fills the tank and its walls (2h each side) with a lattice: a bound on its points keeps

@@ -282,8 +282,10 @@ bool is_linear(const MotionLawSpec& m) { return law_is(m, MotionLawType::linear)
 bool is_polynomial(const MotionLawSpec& m) { return law_is(m, MotionLawType::polynomial); }
 bool is_sinusoidal(const MotionLawSpec& m) { return law_is(m, MotionLawType::sinusoidal); }
 bool is_file(const MotionLawSpec& m) { return law_is(m, MotionLawType::file); }
+bool is_wave(const MotionLawSpec& m) { return law_is(m, MotionLawType::wave); }
+bool is_periodic(const MotionLawSpec& m) { return is_sinusoidal(m) || is_wave(m); }
 bool has_interval(const MotionLawSpec& m) { return is_linear(m) || is_polynomial(m); }
-bool has_start(const MotionLawSpec& m) { return has_interval(m) || is_sinusoidal(m); }
+bool has_start(const MotionLawSpec& m) { return has_interval(m) || is_periodic(m); }
 
 std::vector<Param<MotionLawSpec>> law_params(bool rotation) {
   constexpr double inf = 1e300;
@@ -295,7 +297,9 @@ std::vector<Param<MotionLawSpec>> law_params(bool rotation) {
           fmt::format("The law of the wall's {}: none; linear (a constant rate between start and end); polynomial "
                       "(sum of c_k (t - start)^k between start and end, then held or continued); sinusoidal (amplitude "
                       "sin(2 pi (t - start)/period + phase) - amplitude sin(phase), ramped up over `ramp` periods); "
-                      "file (a recorded series, interpolated by a natural cubic spline).",
+                      "file (a recorded series, interpolated by a natural cubic spline); wave (a translation only: "
+                      "a piston making regular waves of `height` and `period` on water `depth` deep, its stroke "
+                      "from Biesel's transfer function, with Madsen's second-order correction for order = 2).",
                       what)),
   };
   if (rotation) {
@@ -325,13 +329,23 @@ std::vector<Param<MotionLawSpec>> law_params(bool rotation) {
                                       "rate it had at `end`).")),
       used_by(is_sinusoidal, declare("amplitude", &MotionLawSpec::amplitude, unit, 0.0, unbounded_lower,
                                      unbounded_upper, "Sinusoidal: the amplitude.")),
-      used_by(is_sinusoidal,
-              declare("period", &MotionLawSpec::period, "s", 0.0, 1e-6, inf, "Sinusoidal: the period.")),
+      used_by(is_periodic,
+              declare("period", &MotionLawSpec::period, "s", 0.0, 1e-6, inf, "Sinusoidal, wave: the period.")),
       optional_for(is_sinusoidal, declare("phase", &MotionLawSpec::phase, "deg", 0.0, -360.0, 360.0,
                                           "Sinusoidal: the phase; the value is shifted so that it starts at 0.")),
-      optional_for(is_sinusoidal, declare("ramp", &MotionLawSpec::ramp, "periods", 0.0, 0.0, 1e6,
-                                          "Sinusoidal: the number of periods over which the motion grows from rest "
-                                          "((1 - cos) ramp: the wall starts with zero velocity and acceleration).")),
+      optional_for(is_periodic, declare("ramp", &MotionLawSpec::ramp, "periods", 0.0, 0.0, 1e6,
+                                        "Sinusoidal, wave: the number of periods over which the motion grows from rest "
+                                        "((1 - cos) ramp: the wall starts with zero velocity and acceleration).")),
+      used_by(is_wave, declare("height", &MotionLawSpec::height, "m", 0.0, 1e-9, inf,
+                               "Wave: the height H (crest to trough) of the waves the piston makes.")),
+      used_by(is_wave, declare("depth", &MotionLawSpec::depth, "m", 0.0, 1e-9, inf,
+                               "Wave: the still water's depth h at the piston, which the theory needs.")),
+      optional_for(is_wave, declare("order", &MotionLawSpec::order, "", 1, 1, 2,
+                                    "Wave: 1, the first-order motion (S/2) sin(omega t); 2, with Madsen's (1971) "
+                                    "second-order term at 2 omega, which cancels the free second harmonic the "
+                                    "first-order motion makes.")),
+      optional_for(is_wave, declare("gain", &MotionLawSpec::gain, "", 1.0, 0.0, inf,
+                                    "Wave: a factor on the piston's motion (the stroke theory gives times gain).")),
       used_by(is_file, declare("file", &MotionLawSpec::file, "", std::string(""), unbounded_lower, unbounded_upper,
                                "File: a CSV with a header line; a relative path is relative to the case file's "
                                "directory.")),

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "sluice/geometry/wave_theory.hpp"
+
 namespace sluice {
 
 namespace {
@@ -21,6 +23,18 @@ std::shared_ptr<const ScalarLaw> law_of(const MotionLawSpec& m, double unit) {
     case MotionLawType::sinusoidal:
       return std::make_shared<SinusoidalLaw>(unit * m.amplitude, m.period, m.phase * std::numbers::pi / 180.0, m.start,
                                              m.ramp);
+    case MotionLawType::wave: {
+      // A piston: the stroke S = H / (H/S) (Biesel) and, for order 2, Madsen's term at twice the
+      // frequency, ramped over the same time (twice the periods of the second harmonic).
+      const double omega = 2.0 * std::numbers::pi / m.period;
+      const double k = waves::wavenumber(omega, m.depth);
+      const double stroke = m.height / waves::piston_height_per_stroke(k * m.depth);
+      auto first = std::make_shared<SinusoidalLaw>(unit * m.gain * 0.5 * stroke, m.period, 0.0, m.start, m.ramp);
+      if (m.order < 2) return first;
+      const double second = waves::madsen_second_order_amplitude(m.height, k, m.depth);
+      return std::make_shared<SumLaw>(
+          first, std::make_shared<SinusoidalLaw>(unit * m.gain * second, 0.5 * m.period, 0.0, m.start, 2.0 * m.ramp));
+    }
     case MotionLawType::file: {
       std::vector<double> v = m.series->values;
       for (double& y : v) y *= unit;

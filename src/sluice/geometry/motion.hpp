@@ -19,6 +19,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sluice/core/vec.hpp"
@@ -91,6 +92,24 @@ class SinusoidalLaw final : public ScalarLaw {
 
  private:
   double amplitude_, period_, phase_, start_, ramp_periods_;
+};
+
+// The sum of two laws (a piston's first- and second-order motions): values, rates and accelerations
+// add; it settles when both have.
+class SumLaw final : public ScalarLaw {
+ public:
+  SumLaw(std::shared_ptr<const ScalarLaw> a, std::shared_ptr<const ScalarLaw> b) : a_(std::move(a)), b_(std::move(b)) {}
+  [[nodiscard]] LawValue at(double t) const override {
+    const LawValue x = a_->at(t), y = b_->at(t);
+    return {x.value + y.value, x.rate + y.rate, x.acceleration + y.acceleration};
+  }
+  [[nodiscard]] double largest_magnitude(double end) const override {
+    return a_->largest_magnitude(end) + b_->largest_magnitude(end);
+  }
+  [[nodiscard]] double settled_after() const override { return std::max(a_->settled_after(), b_->settled_after()); }
+
+ private:
+  std::shared_ptr<const ScalarLaw> a_, b_;
 };
 
 // A recorded series (times increasing) interpolated by a natural cubic spline: the value, rate and

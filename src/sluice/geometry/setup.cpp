@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 
@@ -16,6 +17,7 @@
 #include "sluice/geometry/polygon.hpp"
 #include "sluice/neighbors/cell_grid.hpp"
 #include "sluice/geometry/tank_walls.hpp"
+#include "sluice/geometry/wave_theory.hpp"
 #include "sluice/physics/eos.hpp"
 
 namespace sluice {
@@ -339,6 +341,41 @@ std::shared_ptr<const Solid<Dim>> box_solid(const Vec<Dim>& lower, const Vec<Dim
   return make_box<Dim>(lower, upper);
 }
 
+// What a wave maker will make, by linear theory: the wave's length, kh, steepness and the stroke
+// that makes it; and a warning where the wave lies past a breaking limit (Miche's steepness
+// 0.142 tanh kh, or H/h > 0.78) or, for second order, where Stokes' second-order theory fails
+// (the Ursell number H L^2 / h^3 above 8 pi^2 / 3, where the second harmonic exceeds a quarter of
+// the first).
+void add_wave_maker_notes(std::vector<std::string>& notes, const Case& c) {
+  const double g = norm(c.gravity);
+  if (!(g > 0.0)) return;
+  for_each_motion_law(c, [&](const MotionLawSpec& m, const std::string& key, bool) {
+    if (m.law != MotionLawType::wave) return;
+    const waves::RegularWave w = waves::regular_wave(m.height, m.period, m.depth, g);
+    const double stroke = m.gain * m.height / waves::piston_height_per_stroke(w.kh);
+    std::string note = fmt::format(
+        "{}: piston waves H = {:.4g} m, T = {:.4g} s on h = {:.4g} m: wavelength {:.4g} m, kh = {:.3f}, H/L = "
+        "{:.4f}, celerity {:.4g} m/s, group velocity {:.4g} m/s; stroke {:.4g} m (order {})",
+        key, m.height, m.period, m.depth, w.wavelength, w.kh, w.steepness, w.celerity, w.group_velocity, stroke,
+        m.order);
+    if (m.order == 2)
+      note += fmt::format(", second-order amplitude {:.3g} m", m.gain * waves::madsen_second_order_amplitude(m.height, w.k, m.depth));
+    notes.push_back(note);
+    if (w.steepness > w.miche_steepness)
+      notes.push_back(fmt::format("warning: {}: H/L = {:.4f} is past Miche's breaking limit 0.142 tanh(kh) = {:.4f}: "
+                                  "such a wave breaks",
+                                  key, w.steepness, w.miche_steepness));
+    if (m.height / m.depth > 0.78)
+      notes.push_back(fmt::format("warning: {}: H/h = {:.3f} is past the depth-limited breaking limit 0.78", key,
+                                  m.height / m.depth));
+    if (m.order == 2 && w.ursell > 8.0 * std::numbers::pi * std::numbers::pi / 3.0)
+      notes.push_back(fmt::format("warning: {}: the Ursell number H L^2/h^3 = {:.3g} is above 8 pi^2/3 = 26.3, where "
+                                  "second-order (Stokes) theory does not hold; the piston's second-order motion is "
+                                  "not the wave's",
+                                  key, w.ursell));
+  });
+}
+
 template <int Dim>
 Setup<Dim> build_setup(const Case& c) {
   Setup<Dim> s;
@@ -370,6 +407,7 @@ Setup<Dim> build_setup(const Case& c) {
     s.notes.push_back(fmt::format("{} water particles removed at set-up, each closer than dx/2 to a point that was "
                                   "kept (where water regions overlap, or water lies on a wall particle)",
                                   water));
+  add_wave_maker_notes(s.notes, c);
   if (c.hydrostatic_start) set_hydrostatic_density(s.particles, c);
   if (c.initial_pressure != 0.0) {
     const TaitEos eos{c.rest_density, c.sound_speed, c.gamma};
