@@ -28,7 +28,7 @@ REPO_ROOT = Path(__file__).resolve().parent.parent
 
 # The sections in the order of the case file. The program's own order is the order of `sluice keys`;
 # this list only says which sections are repeated tables ([[water]]) and is checked against the keys.
-TABLE_SECTIONS = ("case", "domain", "tank", "fluid", "physics", "release", "time", "output")
+TABLE_SECTIONS = ("case", "domain", "tank", "fluid", "physics", "damping", "release", "time", "output")
 ARRAY_SECTIONS = ("water", "wall", "probe")
 
 

@@ -16,6 +16,7 @@
 #include "sluice/geometry/setup.hpp"
 #include "sluice/geometry/tank_walls.hpp"
 #include "sluice/geometry/wall_ghosts.hpp"
+#include "sluice/physics/damping.hpp"
 #include "sluice/physics/eos.hpp"
 
 using namespace sluice;
@@ -592,6 +593,40 @@ TEST(TankWalls, TheOutsideOfTheTanksInside) {
   faces = 0;
   box.for_each_face_outside({0.001, 0.499, 0.399}, 0.01, [&](const Vec<3>&, const Vec<3>&) { ++faces; });
   EXPECT_EQ(faces, 3);  // a corner of the box: three faces
+}
+
+// [damping]: water before the zone keeps its velocity; in it the velocity is multiplied by
+// exp(-strength s^2 dt), s = depth / length, and beyond its end by exp(-strength dt); walls are not
+// touched; the direction is normalised.
+TEST(Damping, RelaxesTheWatersVelocityQuadraticallyAcrossTheZone) {
+  Case c;
+  c.dimension = 2;
+  c.damping_length = 2.0;
+  c.damping_start = {4.0, 0.0, 0.0};
+  c.damping_direction = {3.0, 0.0, 0.0};
+  c.damping_strength = 10.0;
+  const DampingZone<2> zone = DampingZone<2>::of(c);
+  Particles<2> p;
+  for (double x : {3.0, 4.0, 4.5, 5.0, 6.0, 7.0}) {
+    p.add({x, 0.1}, Kind::fluid, 1000.0);
+    p.velocity[0][p.size() - 1] = 1.0;
+    p.velocity[1][p.size() - 1] = -0.5;
+  }
+  p.add({5.0, -0.02}, Kind::wall, 1000.0);
+  p.velocity[0][p.size() - 1] = 1.0;
+  const double dt = 1e-3;
+  apply_damping(p, p.size(), zone, dt, 1);
+  const double expected[] = {1.0, 1.0, std::exp(-10.0 * dt * 0.0625), std::exp(-10.0 * dt * 0.25), std::exp(-10.0 * dt),
+                             std::exp(-10.0 * dt)};
+  for (std::size_t i = 0; i < 6; ++i) {
+    EXPECT_DOUBLE_EQ(p.velocity[0][i], expected[i]) << "x = " << p.position[0][i];
+    EXPECT_DOUBLE_EQ(p.velocity[1][i], -0.5 * expected[i]);
+  }
+  EXPECT_EQ(p.velocity[0][6], 1.0);
+  // However strong, a step never reverses the velocity.
+  c.damping_strength = 1e9;
+  apply_damping(p, p.size(), DampingZone<2>::of(c), dt, 1);
+  EXPECT_GE(p.velocity[0][5], 0.0);
 }
 
 }  // namespace

@@ -171,6 +171,15 @@ struct Case {
     return tank_translation.law != MotionLawType::none || tank_rotation.law != MotionLawType::none;
   }
 
+  // [damping]: a zone where the water's velocity is relaxed (an absorbing end of a wave flume): from
+  // the plane through damping_start normal to damping_direction, over damping_length, the velocity
+  // decays at the rate damping_strength s^2 (s from 0 to 1 across the zone, 1 beyond it).
+  double damping_length = 0.0;  // 0: no zone
+  Vec3 damping_start{};
+  Vec3 damping_direction{1.0, 0.0, 0.0};
+  double damping_strength = 10.0;
+  [[nodiscard]] bool damps() const { return damping_length > 0.0; }
+
   // [release]: the first water region held behind a gate lifted at gate_speed (case/release_gate.hpp)
   bool release_gate = false;
   double gate_speed = 1.0;  // m/s

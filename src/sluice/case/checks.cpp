@@ -346,6 +346,23 @@ struct Checker {
     });
   }
 
+  // A damping zone: a direction, and a start inside the tank.
+  void check_damping() const {
+    if (!c.damps()) return;
+    double length = 0.0;
+    for (int d = 0; d < c.dimension; ++d) length += c.damping_direction[d] * c.damping_direction[d];
+    if (!(length > 0.0))
+      fail(fmt::format("damping.direction = {}: a vector of length 0; expected the direction into the zone",
+                       format_vector(c.damping_direction, c.dimension)));
+    const Vec3 tank = c.tank_size();
+    std::vector<std::string> extent;
+    for (int d = 0; d < c.dimension; ++d) extent.push_back(fmt::format("[0, {}]", tank[d]));
+    for (int d = 0; d < c.dimension; ++d)
+      if (!(c.damping_start[d] >= 0.0 && c.damping_start[d] <= tank[d]))
+        fail(fmt::format("damping.start = {} lies outside the tank {}; expected the start of the zone inside it",
+                         format_vector(c.damping_start, c.dimension), fmt::join(extent, " x ")));
+  }
+
   // A wave maker: a piston (a translation) with the wave's height and the water's depth.
   void check_wave_maker(const MotionLawSpec& m, const std::string& key, bool rotation) const {
     if (rotation)
@@ -381,6 +398,7 @@ void validate_case(const Case& c, const std::string& source) {
   check.check_bodies();
   check.check_probes();
   check.check_wall_friction();
+  check.check_damping();
   if (c.output_formats.empty()) check.fail("output.formats is empty; expected at least one of \"vtk\", \"npz\"");
   check.check_particle_count();
 }

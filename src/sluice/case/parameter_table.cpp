@@ -91,6 +91,7 @@ const std::vector<Section>& case_sections() {
       {"tank", "The closed box tank: inner walls at x = 0 and x = width (and in 3D y = 0 and y = depth), the floor at up = 0 and (with a lid) the top at up = height; up is y in 2D, z in 3D. The tank is fixed unless [tank.translation] or [tank.rotation] gives it a motion law (as a [[wall]]'s): then its walls move by the law and carry the water (a rolling or shaken tank).", false},
       {"fluid", "Fluid properties and the weakly-compressible equation of state.", false},
       {"physics", "Forces and stabilisation.", false},
+      {"damping", "A zone that absorbs waves: the water's velocity relaxed with a strength growing quadratically across it (the far end of a wave flume).", false},
       {"release", "How the water is released: at once (the default), or from behind a gate lifted as in a laboratory.", false},
       {"time", "Time integration.", false},
       {"output", "What is written, and how often.", false},
@@ -202,6 +203,17 @@ const std::vector<Param<Case>>& case_params() {
       with_3d_default(2.5, declare("physics.free_surface_threshold", &Case::free_surface_threshold, "", 1.5, 0.5, 3.0,
                                    "For particle shifting: a fluid particle whose position divergence div r (about 2 "
                                    "inside the water in 2D, 3 in 3D) is below this is on the free surface.")),
+      declare("damping.length", &Case::damping_length, "m", 0.0, 0.0, inf,
+              "The length of the damping zone, along damping.direction from damping.start; 0: none. In it the "
+              "water's velocity decays as exp(-strength s^2 dt) each step, s growing from 0 at its start to 1 at "
+              "its end (and 1 beyond): waves running into it are absorbed rather than reflected."),
+      declare("damping.start", &Case::damping_start, "m", Vec3{}, unbounded_lower, unbounded_upper,
+              "A point on the plane where the damping zone starts."),
+      declare("damping.direction", &Case::damping_direction, "", Vec3{1.0, 0.0, 0.0}, unbounded_lower,
+              unbounded_upper, "The direction into the zone from its start (normalised), e.g. [1, 0] for the far "
+              "end of a flume along +x."),
+      declare("damping.strength", &Case::damping_strength, "1/s", 10.0, 0.0, inf,
+              "The relaxation rate at the zone's end (1/s)."),
       declare("release.gate", &Case::release_gate, "", false, unbounded_lower, unbounded_upper,
               "Hold the first [[water]] region (a box) behind a gate at its face towards +x: a plate 4 dx thick "
               "across the tank, from the floor to 4 dx above the water, lifted at release.gate_speed from t = 0 "

@@ -16,6 +16,7 @@
 #include "sluice/case/case_error.hpp"
 #include "sluice/core/parallel.hpp"
 #include "sluice/geometry/leaks.hpp"
+#include "sluice/physics/damping.hpp"
 #include "sluice/geometry/setup.hpp"
 #include "sluice/integrate/integrators.hpp"
 
@@ -408,6 +409,7 @@ void Solver<Dim>::stop_wall_approach_before_drift(const typename Particles<Dim>:
 template <int Dim>
 void Solver<Dim>::finish_step(const StepSize& size, double time_limit) {
   const double dt = size.dt;
+  if (case_.damps()) apply_damping(particles_, particles_.owned(), DampingZone<Dim>::of(case_), dt, threads_);
   if (shifting_.coefficient > 0.0) {
     if (case_.wall_no_penetration)
       stop_shift_approach<Dim>(particles_, shift_.shift_velocity_data(), solids_, case_.dx, threads_, &solid_reach_);
