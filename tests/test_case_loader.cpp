@@ -758,6 +758,31 @@ TEST(CaseValidation, ProbesOutsideTheTank) {
 // A probe that moves with a wall names one of the case's walls (by its name, or wallN when it has none).
 // [tank.translation] and [tank.rotation] are read as a wall's laws are, with messages that name them as
 // written; a moving tank is refused until the solver moves the tank's own walls.
+// law = "wave": a piston's keys read; a flap (a rotation) and an order other than 1 or 2 refused;
+// [damping] read, and refused with no direction or a start outside the tank.
+TEST(CaseValidation, APistonWaveMakerAndADampingZone) {
+  const std::string flume = "[tank]\nwidth = 6.0\nheight = 0.8\n[[water]]\nmin = [0.12, 0.0]\nmax = [6.0, 0.4]\n";
+  const std::string piston = "[[wall]]\nname = \"piston\"\nmin = [0.04, 0.0]\nmax = [0.12, 0.7]\n[wall.translation]\n"
+                             "law = \"wave\"\ndirection = [1.0, 0.0]\nheight = 0.08\nperiod = 1.2\ndepth = 0.4\norder = 2\n";
+  const Case c = parse(flume + piston + "[damping]\nstart = [4.5, 0.0]\nlength = 1.5\n");
+  EXPECT_EQ(c.walls[0].translation.law, MotionLawType::wave);
+  EXPECT_EQ(c.walls[0].translation.height, 0.08);
+  EXPECT_EQ(c.walls[0].translation.depth, 0.4);
+  EXPECT_EQ(c.walls[0].translation.order, 2);
+  EXPECT_EQ(c.walls[0].translation.gain, 1.0);
+  EXPECT_TRUE(c.damps());
+  EXPECT_EQ(c.damping_strength, 10.0);
+  expect_contains(parse_error(flume + "[[wall]]\nname = \"flap\"\nmin = [0.04, 0.0]\nmax = [0.12, 0.7]\n[wall.rotation]\n"
+                                      "law = \"wave\"\ncentre = [0.08, 0.1]\nheight = 0.08\nperiod = 1.2\ndepth = 0.4\n"),
+                  {"wall[0].rotation.law = \"wave\": a wave maker is a piston"});
+  expect_contains(parse_error(flume + piston + "gain = 1.0\n" + "[damping]\nlength = 1.0\nstart = [7.0, 0.0]\n"),
+                  {"damping.start = [7.0, 0.0] lies outside the tank [0, 6] x [0, 0.8]"});
+  expect_contains(parse_error(flume + "[damping]\nlength = 1.0\nstart = [5.0, 0.0]\ndirection = [0.0, 0.0]\n"),
+                  {"damping.direction = [0.0, 0.0]: a vector of length 0"});
+  Case three = c;
+  expect_contains(override_error(three, "wall[0].translation.order=3"), {"wall[0].translation.order"});
+}
+
 TEST(CaseValidation, TheTanksMotionTables) {
   const std::string tank = "[tank]\nwidth = 1.0\nheight = 1.0\n" + minimal_water;
   const std::string roll = "[tank.rotation]\nlaw = \"sinusoidal\"\ncentre = [0.5, 0.0]\namplitude = 2.0\nperiod = 1.5\n";
