@@ -758,7 +758,8 @@ TEST(CaseValidation, ProbesOutsideTheTank) {
 // A probe that moves with a wall names one of the case's walls (by its name, or wallN when it has none).
 // [tank.translation] and [tank.rotation] are read as a wall's laws are, with messages that name them as
 // written; a moving tank is refused until the solver moves the tank's own walls.
-// law = "wave": a piston's keys read; a flap (a rotation) and an order other than 1 or 2 refused;
+// law = "wave": a piston's and a flap's keys read; a flap hinged above the water or of order 2, and an
+// order other than 1 or 2, refused;
 // [damping] read, and refused with no direction or a start outside the tank.
 TEST(CaseValidation, APistonWaveMakerAndADampingZone) {
   const std::string flume = "[tank]\nwidth = 6.0\nheight = 0.8\n[[water]]\nmin = [0.12, 0.0]\nmax = [6.0, 0.4]\n";
@@ -772,9 +773,13 @@ TEST(CaseValidation, APistonWaveMakerAndADampingZone) {
   EXPECT_EQ(c.walls[0].translation.gain, 1.0);
   EXPECT_TRUE(c.damps());
   EXPECT_EQ(c.damping_strength, 10.0);
-  expect_contains(parse_error(flume + "[[wall]]\nname = \"flap\"\nmin = [0.04, 0.0]\nmax = [0.12, 0.7]\n[wall.rotation]\n"
-                                      "law = \"wave\"\ncentre = [0.08, 0.1]\nheight = 0.08\nperiod = 1.2\ndepth = 0.4\n"),
-                  {"wall[0].rotation.law = \"wave\": a wave maker is a piston"});
+  const std::string flap = flume + "[[wall]]\nname = \"flap\"\nmin = [0.04, 0.0]\nmax = [0.12, 0.7]\n[wall.rotation]\n"
+                                   "law = \"wave\"\nheight = 0.08\nperiod = 1.2\ndepth = 0.4\n";
+  EXPECT_EQ(parse(flap + "centre = [0.08, 0.1]\n").walls[0].rotation.law, MotionLawType::wave);
+  expect_contains(parse_error(flap + "centre = [0.08, 0.5]\n"),
+                  {"wall[0].rotation.centre = [0.08, 0.5]: a flap's hinge 0.5 m above the floor is not in the water"});
+  expect_contains(parse_error(flap + "centre = [0.08, 0.1]\norder = 2\n"),
+                  {"wall[0].rotation.order = 2: second-order generation is for a piston"});
   expect_contains(parse_error(flume + piston + "gain = 1.0\n" + "[damping]\nlength = 1.0\nstart = [7.0, 0.0]\n"),
                   {"damping.start = [7.0, 0.0] lies outside the tank [0, 6] x [0, 0.8]"});
   expect_contains(parse_error(flume + "[damping]\nlength = 1.0\nstart = [5.0, 0.0]\ndirection = [0.0, 0.0]\n"),

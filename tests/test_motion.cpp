@@ -184,6 +184,28 @@ TEST(WaveTheory, APistonsLawIsTheStrokeTheTheoryGives) {
   for (double t : {0.3, 1.7, 3.3}) expect_derivatives(*second.translation, t, 1.0);
 }
 
+// A flap's wave law: the angle -atan(X / (h - hinge)) of the displacement X = (S/2) sin(omega t) that
+// the flap's transfer function asks of its face at the still-water level; its rates and accelerations
+// are exact, and its top swings to +x first (in 2D, a negative angle about z).
+TEST(WaveTheory, AFlapsLawIsTheAngleOfItsStrokeAtTheSurface) {
+  Region flap;
+  flap.rotation.law = MotionLawType::wave;
+  flap.rotation.centre = {0.08, 0.1, 0.0};
+  flap.rotation.height = 0.08;
+  flap.rotation.period = 1.2;
+  flap.rotation.depth = 0.4;
+  flap.rotation.ramp = 2.0;
+  const double omega = 2.0 * std::numbers::pi / 1.2, k = waves::wavenumber(omega, 0.4);
+  const double half_stroke = 0.5 * 0.08 / waves::flap_height_per_stroke(k, 0.4, 0.1);
+  const RigidMotion<2> motion = rigid_motion_of<2>(flap);
+  for (double t : {2.5, 3.0, 4.45, 7.1})
+    EXPECT_NEAR(motion.rotation->at(t).value, -std::atan(half_stroke * std::sin(omega * t) / 0.3), 1e-15);
+  for (double t : {0.3, 1.7, 2.9, 3.3}) expect_derivatives(*motion.rotation, t, 1.0);
+  EXPECT_LT(motion.rotation->at(2.4 + 0.3).value, 0.0);  // a quarter period after the ramp: the top is furthest out
+  EXPECT_DOUBLE_EQ(motion.rotation->settled_after(), 3.0 * 1.2);
+  EXPECT_NEAR(motion.rotation->largest_magnitude(10.0), std::atan(half_stroke / 0.3), 1e-15);
+}
+
 // A recorded series: the natural cubic spline passes through every sample, its rate and acceleration
 // are continuous across them, and on a dense sampling of a sine it gives the sine's acceleration.
 TEST(MotionLaws, TableSplineIsTwiceDifferentiable) {

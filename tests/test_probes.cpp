@@ -300,3 +300,45 @@ TEST(Gauge, TheColumnMeasureReadsTheStandingWaterNotTheSprayAbove) {
   gauge3.measure = GaugeMeasure::column;
   EXPECT_NEAR(sample_probe(gauge3, sim3)[0], 0.5, 1e-9);
 }
+
+// The surface measure reads where the kernel's water fraction falls to 1/2: over still water (on the
+// lattice, its top particles dx/2 below the surface) that is the surface to a small fraction of dx,
+// with either kernel, in 2D and 3D; a lone particle above the water (a drop of spray) is not water
+// level, but a sheet of water thicker than the kernel's reach is.
+TEST(Gauge, TheSurfaceMeasureReadsTheKernelsFreeSurface) {
+  for (const KernelType kernel : {KernelType::cubic_spline, KernelType::wendland_c2}) {
+    Case c = still_water_with_probes();
+    c.kernel = kernel;
+    c.tank_height = 2.0;
+    Probe gauge;
+    gauge.type = ProbeType::gauge;
+    gauge.measure = GaugeMeasure::surface;
+    gauge.point = {0.5, 0.0, 0.0};
+    {
+      const Simulation sim(c, 1);
+      EXPECT_NEAR(sample_probe(gauge, sim)[0], depth, 0.05 * dx) << name_of(kernel, kernel_type_names);
+    }
+    Region drop;
+    drop.min = {0.5, 1.3, 0.0};
+    drop.max = {0.5 + dx, 1.3 + dx, 0.0};
+    c.water.push_back(drop);
+    {
+      const Simulation sim(c, 1);
+      EXPECT_NEAR(sample_probe(gauge, sim)[0], depth, 0.05 * dx) << "with a drop";
+    }
+    Region sheet;
+    sheet.min = {0.0, 1.5, 0.0};
+    sheet.max = {1.0, 1.7, 0.0};
+    c.water.push_back(sheet);
+    const Simulation sim(c, 1);
+    EXPECT_NEAR(sample_probe(gauge, sim)[0], 1.7, 0.05 * dx) << "with a sheet";
+  }
+  Case c3 = *load_builtin_case("still_water_3d");
+  c3.hydrostatic_squeeze = false;
+  const Simulation sim3(c3, 1);
+  Probe gauge3;
+  gauge3.type = ProbeType::gauge;
+  gauge3.measure = GaugeMeasure::surface;
+  gauge3.point = {0.3, 0.2, 0.0};
+  EXPECT_NEAR(sample_probe(gauge3, sim3)[0], 0.5, 0.05 * c3.dx);
+}

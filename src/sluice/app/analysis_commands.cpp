@@ -8,9 +8,11 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "sluice/analysis/convergence.hpp"
 #include "sluice/analysis/validation.hpp"
+#include "sluice/analysis/wave_flume.hpp"
 #include "sluice/analysis/wave_report.hpp"
 #include "sluice/app/commands.hpp"
 #include "sluice/case/overrides.hpp"
@@ -49,10 +51,50 @@ std::vector<double> parse_dx_list(const std::string& text) {
 int threads_or_all(int threads) { return threads > 0 ? threads : omp_get_num_procs(); }
 
 struct AnalyzeArgs {
-  std::string dir, output;
+  std::string dir, output, window;
   double threshold = 0.0;
   int transits = 3;
+  double period = 0.0, height = 0.0, depth = 0.0;
+  std::optional<double> maker_x;
 };
+
+// --window T0,T1: two times, T0 < T1.
+analysis::Window parse_window(const std::string& text) {
+  const auto comma = text.find(',');
+  double v[2] = {0.0, 0.0};
+  bool ok = comma != std::string::npos;
+  for (int k = 0; ok && k < 2; ++k) {
+    const std::string item = k == 0 ? text.substr(0, comma) : text.substr(comma + 1);
+    const auto [ptr, ec] = std::from_chars(item.data(), item.data() + item.size(), v[k]);
+    ok = !item.empty() && ec == std::errc() && ptr == item.data() + item.size() && std::isfinite(v[k]);
+  }
+  if (!ok || !(v[1] > v[0]))
+    throw BadInput(fmt::format("--window {}: expected two times in seconds, the first before the second, e.g. "
+                               "--window 10,20",
+                               text));
+  return {v[0], v[1]};
+}
+
+// A wave flume: the gauges' waves against the wave maker's target.
+int analyze_flume(const AnalyzeArgs& a, const Case& c, const fs::path& out) {
+  analysis::FlumeOptions o;
+  o.period = a.period;
+  o.height = a.height;
+  o.depth = a.depth;
+  o.maker_x = a.maker_x;
+  if (!a.window.empty()) o.window = parse_window(a.window);
+  analysis::FlumeAnalysis f;
+  try {
+    f = analysis::analyze_flume(a.dir, c, o);
+  } catch (const analysis::AnalysisError& e) {
+    throw BadInput(fmt::format("{}: {}", a.dir, e.what()));
+  }
+  analysis::write_flume_report(f, a.dir, out);
+  std::cout << analysis::flume_table(f);
+  std::cout << fmt::format("wrote {}/gauges.csv, summary.csv, harmonics.svg, eta_<gauge>.svg and report.html\n",
+                           out.string());
+  return 0;
+}
 
 int analyze(const AnalyzeArgs& a) {
   const fs::path dir = a.dir;
@@ -64,10 +106,11 @@ int analyze(const AnalyzeArgs& a) {
                                "sluice run's output directory?",
                                a.dir));
   const Case c = read_checkpoint(checkpoint).config;
+  const fs::path out = a.output.empty() ? dir / "analysis" : fs::path(a.output);
+  if (analysis::has_wave_maker(c) || a.period > 0.0) return analyze_flume(a, c, out);
   analysis::WaveOptions options;
   options.front_threshold = a.threshold;
   options.transits = a.transits;
-  const fs::path out = a.output.empty() ? dir / "analysis" : fs::path(a.output);
   analysis::WaveAnalysis w;
   try {
     w = analysis::analyze_run(dir, c, options);
@@ -167,13 +210,28 @@ int validate(const ValidateArgs& a) {
 Command add_analyze_command(CLI::App& app) {
   auto args = std::make_shared<AnalyzeArgs>();
   auto* cmd = app.add_subcommand(
-      "analyze", "Wave crest, front, crest speeds and sloshing period of a run, against shallow-water theory.");
+      "analyze",
+      "A run's waves: for a wave flume (a wave maker, or --period), each gauge's wave height, period and harmonics, "
+      "the decay along the flume and the reflection, against linear theory; otherwise the crest, front, crest speeds "
+      "and sloshing period, against shallow-water theory.");
   cmd->add_option("output_dir", args->dir, "A run's output directory (frames/*.npz and checkpoint.bin)")->required();
   cmd->add_option("-o,--output", args->output, "Where to write the CSVs, plots and report (default: OUTPUT_DIR/analysis)");
   cmd->add_option("--threshold", args->threshold,
                   "Height (m) above the initial surface that marks the wave front (default: 10% of the initial step "
                   "between the walls' depths)")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--period", args->period,
+                  "Wave flume: the waves' period (s), for a paddle without law = \"wave\" (a recorded motion); a run "
+                  "with a wave maker or this option is analysed at its gauges")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--height", args->height, "Wave flume: the target wave height (m) to compare with")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--depth", args->depth, "Wave flume: the still water's depth (m) for the dispersion relation")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--maker-x", args->maker_x, "Wave flume: x of the wave maker's face (m), where distances start");
+  cmd->add_option("--window", args->window,
+                  "Wave flume: T0,T1 (s), one window for every gauge (default: each gauge's steady window, from the "
+                  "group velocity, the ramp and the far end)");
   cmd->add_option("--transits", args->transits, "Average the crest speed over this many first transits (default: 3)")
       ->check(CLI::Range(1, 1000));
   return {cmd, [args] { return analyze(*args); }};

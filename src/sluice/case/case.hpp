@@ -45,8 +45,8 @@ enum class ProbeType { pressure, gauge, front };
 inline constexpr std::array<std::string_view, 3> probe_type_names = {"pressure", "gauge", "front"};
 enum class ProbeCorrection { shepard, linear };
 inline constexpr std::array<std::string_view, 2> probe_correction_names = {"shepard", "linear"};
-enum class GaugeMeasure { highest, column };
-inline constexpr std::array<std::string_view, 2> gauge_measure_names = {"highest", "column"};
+enum class GaugeMeasure { highest, column, surface };
+inline constexpr std::array<std::string_view, 3> gauge_measure_names = {"highest", "column", "surface"};
 
 // A wall's prescribed motion: a law for its translation and one for its rotation (geometry/motion.hpp).
 enum class MotionLawType { none, linear, polynomial, sinusoidal, file, wave };
@@ -116,7 +116,7 @@ struct Probe {
   double band = 0.0;   // gauge: half-width of the band around the line (0 = one particle spacing)
   double size = 0.0;   // pressure: the sensor's diameter (0 = a point); it lies on the nearest wall surface
   ProbeCorrection correction = ProbeCorrection::shepard;  // pressure: how the interpolation is corrected
-  GaugeMeasure measure = GaugeMeasure::highest;           // gauge: the highest fluid, or the column's top
+  GaugeMeasure measure = GaugeMeasure::highest;           // gauge: the highest fluid, the column's top, or the kernel's surface
   double interval = 0.0;  // sampling interval in simulated time (0 = every step)
   std::string wall;       // the [[wall]] the probe moves with (its name); empty: fixed in space
 };

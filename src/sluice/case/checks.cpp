@@ -363,15 +363,21 @@ struct Checker {
                          format_vector(c.damping_start, c.dimension), fmt::join(extent, " x ")));
   }
 
-  // A wave maker: a piston (a translation) with the wave's height and the water's depth.
+  // A wave maker: a piston (a translation) or a flap (a rotation about its hinge, on the floor or
+  // above it and below the still water), with the wave's height and the water's depth.
   void check_wave_maker(const MotionLawSpec& m, const std::string& key, bool rotation) const {
-    if (rotation)
-      fail(fmt::format("{}.law = \"wave\": a wave maker is a piston, [wall.translation]; a flap (a rotation) is not "
-                       "available; expected law = \"wave\" in a translation table",
-                       key));
     if (!(m.height > 0.0)) fail(fmt::format("{}.height = {} m: expected the waves' height, > 0", key, m.height));
     if (!(m.depth > 0.0)) fail(fmt::format("{}.depth = {} m: expected the still water's depth at the piston, > 0", key, m.depth));
     if (m.order != 1 && m.order != 2) fail(fmt::format("{}.order = {}: expected 1 or 2", key, m.order));
+    if (!rotation) return;
+    const double hinge = m.centre[c.dimension - 1];
+    if (!(hinge >= 0.0 && hinge < m.depth))
+      fail(fmt::format("{}.centre = {}: a flap's hinge {} m above the floor is not in the water; expected a hinge "
+                       "from the floor (0) up to below the still water ({} m)",
+                       key, format_vector(m.centre, c.dimension), hinge, m.depth));
+    if (m.order != 1)
+      fail(fmt::format("{}.order = {}: second-order generation is for a piston; expected order = 1 for a flap", key,
+                       m.order));
   }
 
   // The set-up fills the tank and its walls (2h each side) with a lattice: a bound on its points keeps

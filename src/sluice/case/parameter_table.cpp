@@ -309,9 +309,12 @@ std::vector<Param<MotionLawSpec>> law_params(bool rotation) {
           fmt::format("The law of the wall's {}: none; linear (a constant rate between start and end); polynomial "
                       "(sum of c_k (t - start)^k between start and end, then held or continued); sinusoidal (amplitude "
                       "sin(2 pi (t - start)/period + phase) - amplitude sin(phase), ramped up over `ramp` periods); "
-                      "file (a recorded series, interpolated by a natural cubic spline); wave (a translation only: "
-                      "a piston making regular waves of `height` and `period` on water `depth` deep, its stroke "
-                      "from Biesel's transfer function, with Madsen's second-order correction for order = 2).",
+                      "file (a recorded series, interpolated by a natural cubic spline); wave (regular waves of `height` "
+                      "and `period` on water `depth` deep, the stroke S from Biesel's transfer function: a translation "
+                      "is a piston, with Madsen's second-order correction for order = 2; a rotation is a flap hinged "
+                      "at `centre` (its height above the floor), its angle -atan(X / (depth - hinge)) for the "
+                      "displacement X = (S/2) sin(omega t) at the still-water level, so that its top swings first "
+                      "along up x axis: towards +x in 2D).",
                       what)),
   };
   if (rotation) {
@@ -349,15 +352,15 @@ std::vector<Param<MotionLawSpec>> law_params(bool rotation) {
                                         "Sinusoidal, wave: the number of periods over which the motion grows from rest "
                                         "((1 - cos) ramp: the wall starts with zero velocity and acceleration).")),
       used_by(is_wave, declare("height", &MotionLawSpec::height, "m", 0.0, 1e-9, inf,
-                               "Wave: the height H (crest to trough) of the waves the piston makes.")),
+                               "Wave: the height H (crest to trough) of the waves the wave maker makes.")),
       used_by(is_wave, declare("depth", &MotionLawSpec::depth, "m", 0.0, 1e-9, inf,
-                               "Wave: the still water's depth h at the piston, which the theory needs.")),
+                               "Wave: the still water's depth h at the wave maker, which the theory needs.")),
       optional_for(is_wave, declare("order", &MotionLawSpec::order, "", 1, 1, 2,
-                                    "Wave: 1, the first-order motion (S/2) sin(omega t); 2, with Madsen's (1971) "
-                                    "second-order term at 2 omega, which cancels the free second harmonic the "
+                                    "Wave: 1, the first-order motion (S/2) sin(omega t); 2 (a piston), with Madsen's "
+                                    "(1971) second-order term at 2 omega, which cancels the free second harmonic the "
                                     "first-order motion makes.")),
       optional_for(is_wave, declare("gain", &MotionLawSpec::gain, "", 1.0, 0.0, inf,
-                                    "Wave: a factor on the piston's motion (the stroke theory gives times gain).")),
+                                    "Wave: a factor on the wave maker's motion (the stroke theory gives times gain).")),
       used_by(is_file, declare("file", &MotionLawSpec::file, "", std::string(""), unbounded_lower, unbounded_upper,
                                "File: a CSV with a header line; a relative path is relative to the case file's "
                                "directory.")),
@@ -415,7 +418,9 @@ const std::vector<Param<Probe>>& probe_params() {
               "measure", GaugeMeasure::highest, gauge_measure_names,
               "What a gauge reads: highest (the top of the highest fluid particle in its band) or column (the top "
               "of the water standing on the line's foot, `point`: spray and drops above a gap of more than one "
-              "particle spacing are not water level, as for a wire gauge)."),
+              "particle spacing are not water level, as for a wire gauge) or surface (the highest point of the line "
+              "where the kernel's water fraction sum V_j W_j reaches 1/2, between samples dx/8 apart: the surface "
+              "of the smoothed water, not of a particle, which a wave gauge wants)."),
       declare("interval", &Probe::interval, "s", 0.0, 0.0, 1e300, "Sampling interval; 0 = every step."),
       declare("wall", &Probe::wall, "", std::string(""), unbounded_lower, unbounded_upper,
               "The name of the [[wall]] the probe moves with, or \"tank\" in a case whose tank moves: `point` is "

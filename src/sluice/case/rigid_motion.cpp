@@ -9,8 +9,26 @@ namespace sluice {
 
 namespace {
 
+// A wave maker: the horizontal displacement of its face at the still-water level. A piston's stroke
+// is S = H / (H/S) (Biesel); order 2 adds Madsen's term at twice the frequency, ramped over the same
+// time (twice the periods of the second harmonic). A flap (hinge > -1: its hinge's height above the
+// floor) has the stroke of its own transfer function, and no second-order term.
+std::shared_ptr<const ScalarLaw> wave_maker_displacement(const MotionLawSpec& m, double hinge) {
+  const double omega = 2.0 * std::numbers::pi / m.period;
+  const double k = waves::wavenumber(omega, m.depth);
+  const bool flap = hinge > -1.0;
+  const double stroke =
+      m.height / (flap ? waves::flap_height_per_stroke(k, m.depth, hinge) : waves::piston_height_per_stroke(k * m.depth));
+  auto first = std::make_shared<SinusoidalLaw>(m.gain * 0.5 * stroke, m.period, 0.0, m.start, m.ramp);
+  if (flap || m.order < 2) return first;
+  const double second = waves::madsen_second_order_amplitude(m.height, k, m.depth);
+  return std::make_shared<SumLaw>(
+      first, std::make_shared<SinusoidalLaw>(m.gain * second, 0.5 * m.period, 0.0, m.start, 2.0 * m.ramp));
+}
+
 // One law as a function of time, its values multiplied by `unit` (pi/180 for a rotation's degrees).
-std::shared_ptr<const ScalarLaw> law_of(const MotionLawSpec& m, double unit) {
+// `hinge`: for a rotation, the height of its centre above the floor (a flap's hinge); -2 for a translation.
+std::shared_ptr<const ScalarLaw> law_of(const MotionLawSpec& m, double unit, double hinge) {
   switch (m.law) {
     case MotionLawType::none: return nullptr;
     case MotionLawType::linear: return std::make_shared<LinearLaw>(unit * m.speed, m.start, m.end);
@@ -24,16 +42,9 @@ std::shared_ptr<const ScalarLaw> law_of(const MotionLawSpec& m, double unit) {
       return std::make_shared<SinusoidalLaw>(unit * m.amplitude, m.period, m.phase * std::numbers::pi / 180.0, m.start,
                                              m.ramp);
     case MotionLawType::wave: {
-      // A piston: the stroke S = H / (H/S) (Biesel) and, for order 2, Madsen's term at twice the
-      // frequency, ramped over the same time (twice the periods of the second harmonic).
-      const double omega = 2.0 * std::numbers::pi / m.period;
-      const double k = waves::wavenumber(omega, m.depth);
-      const double stroke = m.height / waves::piston_height_per_stroke(k * m.depth);
-      auto first = std::make_shared<SinusoidalLaw>(unit * m.gain * 0.5 * stroke, m.period, 0.0, m.start, m.ramp);
-      if (m.order < 2) return first;
-      const double second = waves::madsen_second_order_amplitude(m.height, k, m.depth);
-      return std::make_shared<SumLaw>(
-          first, std::make_shared<SinusoidalLaw>(unit * m.gain * second, 0.5 * m.period, 0.0, m.start, 2.0 * m.ramp));
+      const auto displacement = wave_maker_displacement(m, hinge);
+      if (hinge > -1.0) return std::make_shared<FlapLaw>(displacement, m.depth - hinge);
+      return displacement;
     }
     case MotionLawType::file: {
       std::vector<double> v = m.series->values;
@@ -59,9 +70,9 @@ Vec<Dim> unit_vector(const Vec3& v) {
 template <int Dim>
 RigidMotion<Dim> rigid_motion_of(const Region& wall) {
   RigidMotion<Dim> motion;
-  motion.translation = law_of(wall.translation, 1.0);
+  motion.translation = law_of(wall.translation, 1.0, -2.0);
   if (motion.translation) motion.direction = unit_vector<Dim>(wall.translation.direction);
-  motion.rotation = law_of(wall.rotation, std::numbers::pi / 180.0);
+  motion.rotation = law_of(wall.rotation, std::numbers::pi / 180.0, wall.rotation.centre[Dim - 1]);
   if (motion.rotation) {
     for (int d = 0; d < Dim; ++d) motion.centre[d] = wall.rotation.centre[d];
     motion.axis = Dim == 3 ? unit_vector<3>(wall.rotation.axis) : Vec<3>{0.0, 0.0, 1.0};

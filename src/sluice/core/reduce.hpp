@@ -16,7 +16,8 @@ class Reducer {
   [[nodiscard]] virtual std::int64_t sum(std::int64_t part) const = 0;
   [[nodiscard]] virtual double max(double part) const = 0;
   [[nodiscard]] virtual double min(double part) const = 0;
-  // Element-wise maximum of equal-length vectors.
+  // Element-wise sum (in rank order) and maximum of equal-length vectors.
+  [[nodiscard]] virtual std::vector<double> sum(std::vector<double> parts) const = 0;
   [[nodiscard]] virtual std::vector<double> max(std::vector<double> parts) const = 0;
   // The payload of the part with the largest value (of equal values, the first process's).
   [[nodiscard]] virtual std::vector<double> payload_of_max(double value, std::vector<double> payload) const = 0;
@@ -28,6 +29,7 @@ class SerialReducer final : public Reducer {
   [[nodiscard]] std::int64_t sum(std::int64_t part) const override { return part; }
   [[nodiscard]] double max(double part) const override { return part; }
   [[nodiscard]] double min(double part) const override { return part; }
+  [[nodiscard]] std::vector<double> sum(std::vector<double> parts) const override { return parts; }
   [[nodiscard]] std::vector<double> max(std::vector<double> parts) const override { return parts; }
   [[nodiscard]] std::vector<double> payload_of_max(double, std::vector<double> payload) const override {
     return payload;

@@ -112,6 +112,26 @@ class SumLaw final : public ScalarLaw {
   std::shared_ptr<const ScalarLaw> a_, b_;
 };
 
+// A flap's angle from the horizontal displacement X(t) of its face at a height `arm` above its hinge:
+// -atan(X / arm), so that a positive X swings the top along up x axis (in 2D, about z: towards +x).
+class FlapLaw final : public ScalarLaw {
+ public:
+  FlapLaw(std::shared_ptr<const ScalarLaw> displacement, double arm) : x_(std::move(displacement)), arm_(arm) {}
+  [[nodiscard]] LawValue at(double t) const override {
+    const LawValue x = x_->at(t);
+    const double u = x.value / arm_, du = x.rate / arm_, ddu = x.acceleration / arm_, q = 1.0 / (1.0 + u * u);
+    return {-std::atan(u), -du * q, -(ddu * q - 2.0 * u * du * du * q * q)};
+  }
+  [[nodiscard]] double largest_magnitude(double end) const override {
+    return std::atan(x_->largest_magnitude(end) / arm_);
+  }
+  [[nodiscard]] double settled_after() const override { return x_->settled_after(); }
+
+ private:
+  std::shared_ptr<const ScalarLaw> x_;
+  double arm_;
+};
+
 // A recorded series (times increasing) interpolated by a natural cubic spline: the value, rate and
 // acceleration are continuous, so the walls' acceleration (which mDBC and Adami's walls use) is
 // defined everywhere; linear interpolation would make it zero between samples and infinite at them.

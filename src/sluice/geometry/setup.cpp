@@ -349,15 +349,22 @@ std::shared_ptr<const Solid<Dim>> box_solid(const Vec<Dim>& lower, const Vec<Dim
 void add_wave_maker_notes(std::vector<std::string>& notes, const Case& c) {
   const double g = norm(c.gravity);
   if (!(g > 0.0)) return;
-  for_each_motion_law(c, [&](const MotionLawSpec& m, const std::string& key, bool) {
+  for_each_motion_law(c, [&](const MotionLawSpec& m, const std::string& key, bool rotation) {
     if (m.law != MotionLawType::wave) return;
     const waves::RegularWave w = waves::regular_wave(m.height, m.period, m.depth, g);
-    const double stroke = m.gain * m.height / waves::piston_height_per_stroke(w.kh);
+    const double hinge = m.centre[c.dimension - 1];
+    const double stroke = m.gain * m.height /
+                          (rotation ? waves::flap_height_per_stroke(w.k, m.depth, hinge) : waves::piston_height_per_stroke(w.kh));
     std::string note = fmt::format(
-        "{}: piston waves H = {:.4g} m, T = {:.4g} s on h = {:.4g} m: wavelength {:.4g} m, kh = {:.3f}, H/L = "
-        "{:.4f}, celerity {:.4g} m/s, group velocity {:.4g} m/s; stroke {:.4g} m (order {})",
-        key, m.height, m.period, m.depth, w.wavelength, w.kh, w.steepness, w.celerity, w.group_velocity, stroke,
-        m.order);
+        "{}: {} waves H = {:.4g} m, T = {:.4g} s on h = {:.4g} m: wavelength {:.4g} m, kh = {:.3f}, H/L = "
+        "{:.4f}, celerity {:.4g} m/s, group velocity {:.4g} m/s; stroke {:.4g} m at the still-water level",
+        key, rotation ? "flap" : "piston", m.height, m.period, m.depth, w.wavelength, w.kh, w.steepness, w.celerity,
+        w.group_velocity, stroke);
+    if (rotation)
+      note += fmt::format(" (hinge {:.4g} m above the floor, angle amplitude {:.4g} deg)", hinge,
+                          std::atan(0.5 * stroke / (m.depth - hinge)) * 180.0 / std::numbers::pi);
+    else
+      note += fmt::format(" (order {})", m.order);
     if (m.order == 2)
       note += fmt::format(", second-order amplitude {:.3g} m", m.gain * waves::madsen_second_order_amplitude(m.height, w.k, m.depth));
     notes.push_back(note);

@@ -126,6 +126,22 @@ class MpiReducer final : public Reducer {
   MpiReducer(const MpiReducer&) = delete;
   MpiReducer& operator=(const MpiReducer&) = delete;
 
+  // Vectors of different lengths would make MPI read past the shorter ones: check first, on all; and
+  // that `copies` of them fit MPI's int counts.
+  void check_equal_lengths(const char* what, std::size_t size, std::size_t copies) const {
+    const auto length = static_cast<long long>(size);
+    long long bounds[2] = {length, -length};
+    MPI_Allreduce(MPI_IN_PLACE, bounds, 2, MPI_LONG_LONG, MPI_MIN, comm_);
+    if (bounds[0] != -bounds[1])
+      throw std::invalid_argument(fmt::format(
+          "{}: vectors of {} to {} elements on the processes; expected the same length on all", what, bounds[0],
+          -bounds[1]));
+    if (size * copies > max_count)
+      throw std::length_error(fmt::format("{}: vectors of {} elements from {} processes; MPI counts them in int, at "
+                                          "most {}",
+                                          what, size, copies, max_count));
+  }
+
   // Every process adds all the parts in rank order (MPI_SUM would add them in an order of MPI's
   // choosing, which may differ between processes and runs, and so may the last bits).
   [[nodiscard]] double sum(double part) const override {
@@ -158,19 +174,24 @@ class MpiReducer final : public Reducer {
     return result;
   }
 
+  // Every process gathers every part and adds them in rank order, as sum(double) does.
+  [[nodiscard]] std::vector<double> sum(std::vector<double> parts) const override {
+    check_failures(comm_, rank_, size_);
+    check_equal_lengths("sum", parts.size(), static_cast<std::size_t>(size_));
+    std::vector<double> all(parts.size() * static_cast<std::size_t>(size_));
+    MPI_Allgather(parts.data(), static_cast<int>(parts.size()), MPI_DOUBLE, all.data(), static_cast<int>(parts.size()),
+                  MPI_DOUBLE, comm_);
+    for (std::size_t k = 0; k < parts.size(); ++k) {
+      double total = all[k];
+      for (std::size_t r = 1; r < static_cast<std::size_t>(size_); ++r) total += all[r * parts.size() + k];
+      parts[k] = total;
+    }
+    return parts;
+  }
+
   [[nodiscard]] std::vector<double> max(std::vector<double> parts) const override {
     check_failures(comm_, rank_, size_);
-    // Vectors of different lengths would make MPI read past the shorter ones: check first, on all.
-    const auto length = static_cast<long long>(parts.size());
-    long long bounds[2] = {length, -length};
-    MPI_Allreduce(MPI_IN_PLACE, bounds, 2, MPI_LONG_LONG, MPI_MIN, comm_);
-    if (bounds[0] != -bounds[1])
-      throw std::invalid_argument(fmt::format(
-          "max: vectors of {} to {} elements on the processes; expected the same length on all", bounds[0],
-          -bounds[1]));
-    if (parts.size() > max_count)
-      throw std::length_error(
-          fmt::format("max: vectors of {} elements; MPI counts them in int, at most {}", parts.size(), max_count));
+    check_equal_lengths("max", parts.size(), 1);
     MPI_Allreduce(MPI_IN_PLACE, parts.data(), static_cast<int>(parts.size()), MPI_DOUBLE, max_, comm_);
     return parts;
   }

@@ -1,0 +1,369 @@
+#include "sluice/analysis/wave_flume.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "sluice/analysis/html_report.hpp"
+#include "sluice/analysis/svg_plot.hpp"
+#include "sluice/analysis/table.hpp"
+#include "sluice/geometry/wave_theory.hpp"
+#include "sluice/io/atomic_file.hpp"
+
+namespace sluice::analysis {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double two_pi = 2.0 * std::numbers::pi;
+
+// An angle in (-180, 180] degrees.
+double wrapped_degrees(double radians) {
+  double d = std::remainder(radians, two_pi) * 180.0 / std::numbers::pi;
+  if (d <= -180.0) d += 360.0;
+  return d;
+}
+
+// The largest x of a wall at rest: a piston's face.
+double face_x(const Region& wall) {
+  if (wall.shape == Shape::polygon) {
+    double x = -1e300;
+    for (const auto& p : wall.points) x = std::max(x, p[0]);
+    return x;
+  }
+  return wall.max[0];
+}
+
+FlumeWave wave_of(const Case& c, const FlumeOptions& o) {
+  FlumeWave w;
+  for (std::size_t i = 0; i < c.walls.size() && w.maker.empty(); ++i)
+    for (bool rotation : {false, true}) {
+      const MotionLawSpec& m = rotation ? c.walls[i].rotation : c.walls[i].translation;
+      if (m.law != MotionLawType::wave) continue;
+      w.maker = fmt::format("wall[{}].{} ({})", i, rotation ? "rotation" : "translation", c.walls[i].name);
+      w.height = m.height * m.gain;
+      w.period = m.period;
+      w.depth = m.depth;
+      w.start = m.start;
+      w.ramp_time = m.ramp * m.period;
+      w.order = rotation ? 1 : m.order;
+      w.maker_x = rotation ? m.centre[0] : face_x(c.walls[i]);
+      break;
+    }
+  if (w.maker.empty()) {
+    // A paddle driven otherwise (a recorded motion): distances from the first moving wall's face.
+    for (const auto& wall : c.walls)
+      if (wall.moves()) {
+        w.maker_x = wall.rotation.law != MotionLawType::none ? wall.rotation.centre[0] : face_x(wall);
+        break;
+      }
+  }
+  if (o.period > 0.0) w.period = o.period;
+  if (o.height > 0.0) w.height = o.height;
+  if (o.depth > 0.0) w.depth = o.depth;
+  if (o.maker_x) w.maker_x = *o.maker_x;
+  if (!(w.period > 0.0))
+    throw AnalysisError("the case has no wave maker (a wall with law = \"wave\"); expected the wave's period with "
+                        "--period (and --height, --depth to compare with theory)");
+  return w;
+}
+
+std::string format_window(const std::optional<Window>& w) {
+  return w ? fmt::format("{:.2f}-{:.2f}", w->t0, w->t1) : std::string("-");
+}
+
+// The first-harmonic height 2 A1 relative to the target, in percent; nan without a target.
+double height_error_percent(const FlumeAnalysis& a, const GaugeWaves& g) {
+  if (!g.harmonics || !(a.wave.height > 0.0)) return std::nan("");
+  return 100.0 * (2.0 * g.harmonics->amplitude[0] / a.wave.height - 1.0);
+}
+
+std::string num(double v, const char* spec = "{:.4f}") {
+  return std::isfinite(v) ? fmt::format(fmt::runtime(spec), v) : std::string("-");
+}
+
+}  // namespace
+
+bool has_wave_maker(const Case& c) {
+  for (const auto& wall : c.walls)
+    if (wall.translation.law == MotionLawType::wave || wall.rotation.law == MotionLawType::wave) return true;
+  return false;
+}
+
+FlumeAnalysis analyze_flume(const fs::path& run_dir, const Case& c, const FlumeOptions& options) {
+  FlumeAnalysis a;
+  a.wave = wave_of(c, options);
+  FlumeWave& w = a.wave;
+  const double g = std::sqrt(c.gravity[0] * c.gravity[0] + c.gravity[1] * c.gravity[1] + c.gravity[2] * c.gravity[2]);
+  std::vector<const Probe*> gauges;
+  for (const auto& p : c.probes)
+    if (p.type == ProbeType::gauge) gauges.push_back(&p);
+  if (gauges.empty())
+    throw AnalysisError("the case has no wave gauges ([[probe]] with type = \"gauge\"); expected at least one");
+
+  // The series, and each gauge's still level: its mean before the fastest wave, sqrt(g h), reaches it.
+  std::vector<Series> levels;
+  for (const Probe* p : gauges) {
+    const fs::path file = run_dir / "probes" / (p->name + ".csv");
+    std::error_code ec;
+    if (!fs::exists(file, ec))
+      throw AnalysisError(fmt::format("{}: no such file; expected gauge \"{}\"'s series", file.string(), p->name));
+    levels.push_back(read_csv_table(file).series("time", "height"));
+    if (levels.back().size() < 2) throw AnalysisError(fmt::format("{}: fewer than two samples", file.string()));
+  }
+  if (!(w.depth > 0.0)) w.depth = levels.front().y.front();
+  w.omega = two_pi / w.period;
+  w.k = waves::wavenumber(w.omega, w.depth, g);
+  const waves::RegularWave theory = waves::regular_wave(std::max(w.height, 1e-12), w.period, w.depth, g);
+  w.wavelength = theory.wavelength;
+  w.group_velocity = theory.group_velocity;
+  if (w.height > 0.0) {
+    const double kh = w.k * w.depth, amplitude = 0.5 * w.height, sh = std::sinh(kh);
+    w.bound_second_harmonic =
+        0.25 * w.k * amplitude * amplitude * std::cosh(kh) * (2.0 + std::cosh(2.0 * kh)) / (sh * sh * sh);
+  }
+  a.still_level = w.depth;
+  if (!c.damps()) a.reflector = c.tank_size()[0] - w.maker_x;
+  for (const Series& s : levels) a.end_time = std::max(a.end_time, s.t.back());
+
+  std::vector<double> decay_x, decay_a;
+  for (std::size_t i = 0; i < gauges.size(); ++i) {
+    GaugeWaves gw;
+    gw.name = gauges[i]->name;
+    gw.x = gauges[i]->point[0];
+    gw.distance = gw.x - w.maker_x;
+    const Series& s = levels[i];
+    const double quiet_until = w.start + std::max(0.0, gw.distance) / std::sqrt(g * w.depth);
+    double still = 0.0;
+    std::size_t quiet = 0;
+    for (std::size_t j = 0; j < s.size() && (s.t[j] <= quiet_until || j == 0); ++j, ++quiet) still += s.y[j];
+    still /= static_cast<double>(quiet);
+    gw.eta = s;
+    for (double& y : gw.eta.y) y -= still;
+    gw.theory_phase = std::fmod(w.omega * w.start + w.k * gw.distance, two_pi);
+    const bool in_zone = c.damps() && (gw.x - c.damping_start[0]) * c.damping_direction[0] > 0.0;
+    gw.window = options.window ? options.window
+                               : steady_window(gw.distance, w.start, w.ramp_time, w.group_velocity, w.period,
+                                               s.t.back(), a.reflector);
+    if (!gw.window) {
+      gw.note = "no steady waves reach it before the run ends (or before the reflection returns)";
+    } else {
+      try {
+        gw.zero_crossing = zero_crossing_waves(gw.eta, gw.window->t0, gw.window->t1);
+        gw.harmonics = fit_harmonics(gw.eta, w.omega, 2, gw.window->t0, gw.window->t1);
+      } catch (const AnalysisError& e) {
+        gw.note = e.what();
+      }
+    }
+    if (in_zone && gw.note.empty()) gw.note = "in the damping zone";
+    if (gw.harmonics && !in_zone && gw.distance > 0.0) {
+      decay_x.push_back(gw.distance);
+      decay_a.push_back(gw.harmonics->amplitude[0]);
+    }
+    a.gauges.push_back(std::move(gw));
+  }
+
+  if (decay_x.size() >= 2) a.decay = amplitude_decay(decay_x, decay_a, w.wavelength);
+
+  // Reflection: the gauges outside the zone, their harmonics fitted over one window all share.
+  std::optional<Window> common = options.window;
+  std::vector<const GaugeWaves*> used;
+  for (const auto& gw : a.gauges)
+    if (gw.harmonics && gw.distance > 0.0 && gw.note.empty()) used.push_back(&gw);
+  if (!common && used.size() >= 2) {
+    Window cw{-1e300, 1e300};
+    for (const auto* gw : used) {
+      cw.t0 = std::max(cw.t0, gw->window->t0);
+      cw.t1 = std::min(cw.t1, gw->window->t1);
+    }
+    const double whole = std::floor((cw.t1 - cw.t0) / w.period + 1e-9);
+    if (whole >= 2.0) {
+      cw.t1 = cw.t0 + whole * w.period;
+      common = cw;
+    }
+  }
+  if (used.size() >= 2 && common) {
+    std::vector<double> x;
+    std::vector<std::complex<double>> z;
+    for (const auto* gw : used) {
+      x.push_back(gw->distance);
+      z.push_back(fit_harmonics(gw->eta, w.omega, 1, common->t0, common->t1).complex(1));
+      a.reflection_gauges.push_back(gw->name);
+    }
+    try {
+      a.reflection = separate_incident_reflected(x, z, w.k);
+      a.common_window = common;
+      if (a.reflection->conditioning < 0.15)
+        a.notes.push_back(fmt::format("the gauges are close to a whole number of half wavelengths apart "
+                                      "(conditioning {:.2f}): the reflection coefficient is uncertain",
+                                      a.reflection->conditioning));
+    } catch (const AnalysisError& e) {
+      a.notes.push_back(e.what());
+    }
+  } else {
+    a.notes.push_back("reflection: fewer than two gauges share two periods of steady waves");
+  }
+  return a;
+}
+
+std::string flume_table(const FlumeAnalysis& a) {
+  const FlumeWave& w = a.wave;
+  std::string s = fmt::format("wave flume: {}\n", w.maker.empty() ? std::string("wave from the options") : w.maker);
+  s += fmt::format("  target     H = {} m, T = {:.4g} s, h = {:.4g} m: L = {:.4g} m, kh = {:.3f}, cg = {:.4g} m/s\n",
+                   w.height > 0.0 ? fmt::format("{:.4g}", w.height) : std::string("-"), w.period, w.depth,
+                   w.wavelength, w.k * w.depth, w.group_velocity);
+  if (w.bound_second_harmonic > 0.0)
+    s += fmt::format("  second harmonic bound to the target (Stokes): a2 = {:.5f} m\n", w.bound_second_harmonic);
+  s += fmt::format("  {:<10} {:>7} {:>6} {:>13} {:>8} {:>8} {:>8} {:>7} {:>7} {:>8}\n", "gauge", "x (m)", "x/L",
+                   "window (s)", "H zc", "T zc", "H1", "H1 err", "phase", "a2");
+  for (const auto& g : a.gauges) {
+    const double h1 = g.harmonics ? 2.0 * g.harmonics->amplitude[0] : std::nan("");
+    const double a2 = g.harmonics ? g.harmonics->amplitude[1] : std::nan("");
+    const double phase = g.harmonics ? wrapped_degrees(g.harmonics->phase[0] - g.theory_phase) : std::nan("");
+    s += fmt::format("  {:<10} {:>7.3f} {:>6.2f} {:>13} {:>8} {:>8} {:>8} {:>7} {:>7} {:>8}{}\n", g.name, g.x,
+                     g.distance / w.wavelength, format_window(g.window),
+                     g.zero_crossing ? num(g.zero_crossing->mean_height) : "-",
+                     g.zero_crossing ? num(g.zero_crossing->mean_period) : "-", num(h1),
+                     num(height_error_percent(a, g), "{:+.1f}%"), num(phase, "{:+.0f}"), num(a2, "{:.5f}"),
+                     g.note.empty() ? "" : "  (" + g.note + ")");
+  }
+  s += "  (H zc, T zc: mean zero-crossing height and period; H1 = 2 a1 and a2: the first and second harmonics "
+       "fitted; H1 err against the target; phase: the first harmonic's lag behind linear theory, degrees)\n";
+  if (a.decay)
+    s += fmt::format("  decay      {:.2f} % of the first harmonic per wavelength over {} gauges\n",
+                     100.0 * a.decay->per_wavelength, a.decay->gauges);
+  if (a.reflection)
+    s += fmt::format("  reflection Kr = {:.3f} (incident {:.4g} m, reflected {:.4g} m; gauges {}; window {})\n",
+                     a.reflection->coefficient, a.reflection->incident, a.reflection->reflected,
+                     fmt::join(a.reflection_gauges, ", "), format_window(a.common_window));
+  for (const auto& n : a.notes) s += "  note: " + n + "\n";
+  return s;
+}
+
+namespace {
+
+std::string gauges_csv(const FlumeAnalysis& a) {
+  std::string s =
+      "gauge,x,distance,distance_over_wavelength,t0,t1,zero_crossing_height,zero_crossing_period,waves,"
+      "first_harmonic_amplitude,first_harmonic_phase,second_harmonic_amplitude,second_harmonic_phase,mean,"
+      "target_height,theory_phase,phase_lag_degrees\n";
+  for (const auto& g : a.gauges) {
+    auto v = [](bool has, double x) { return has ? fmt::format("{}", x) : std::string(); };
+    const bool h = g.harmonics.has_value(), z = g.zero_crossing.has_value(), win = g.window.has_value();
+    s += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", g.name, g.x, g.distance,
+                     g.distance / a.wave.wavelength, v(win, win ? g.window->t0 : 0), v(win, win ? g.window->t1 : 0),
+                     v(z, z ? g.zero_crossing->mean_height : 0), v(z, z ? g.zero_crossing->mean_period : 0),
+                     v(z, z ? static_cast<double>(g.zero_crossing->waves) : 0), v(h, h ? g.harmonics->amplitude[0] : 0),
+                     v(h, h ? g.harmonics->phase[0] : 0), v(h, h ? g.harmonics->amplitude[1] : 0),
+                     v(h, h ? g.harmonics->phase[1] : 0), v(h, h ? g.harmonics->mean : 0),
+                     v(a.wave.height > 0.0, a.wave.height), g.theory_phase,
+                     v(h, h ? wrapped_degrees(g.harmonics->phase[0] - g.theory_phase) : 0));
+  }
+  return s;
+}
+
+std::string summary_csv(const FlumeAnalysis& a) {
+  const FlumeWave& w = a.wave;
+  std::string s = "quantity,value,unit\n";
+  s += fmt::format("second harmonic bound to the target,{},m\n", w.bound_second_harmonic);
+  s += fmt::format("target height,{},m\nperiod,{},s\ndepth,{},m\nwavelength,{},m\nkh,{},\ngroup velocity,{},m/s\n",
+                   w.height, w.period, w.depth, w.wavelength, w.k * w.depth, w.group_velocity);
+  if (a.decay) s += fmt::format("first-harmonic decay per wavelength,{},\n", a.decay->per_wavelength);
+  if (a.reflection)
+    s += fmt::format("reflection coefficient,{},\nincident amplitude,{},m\nreflected amplitude,{},m\n",
+                     a.reflection->coefficient, a.reflection->incident, a.reflection->reflected);
+  return s;
+}
+
+Plot gauge_plot(const FlumeAnalysis& a, const GaugeWaves& g) {
+  Plot p;
+  p.title = fmt::format("Gauge {} at x = {:.3g} m ({:.2f} wavelengths from the wave maker)", g.name, g.x,
+                        g.distance / a.wave.wavelength);
+  p.x_label = "t (s)";
+  p.y_label = "surface elevation (m)";
+  p.series.push_back(curve("sluice", g.eta.t, g.eta.y));
+  if (a.wave.height > 0.0 && g.window) {
+    std::vector<double> t, y;
+    for (double s = g.window->t0; s <= g.window->t1 + 1e-9; s += a.wave.period / 40.0) {
+      t.push_back(s);
+      y.push_back(0.5 * a.wave.height * std::cos(a.wave.omega * s - g.theory_phase));
+    }
+    PlotSeries th = curve(fmt::format("linear theory, H = {:.3g} m", a.wave.height), t, y);
+    th.dashed = true;
+    p.series.push_back(th);
+  }
+  if (g.window) p.bands.push_back({g.window->t0, g.window->t1, "steady window"});
+  p.legend = Plot::LegendAt::bottom_left;
+  return p;
+}
+
+Plot harmonics_plot(const FlumeAnalysis& a) {
+  Plot p;
+  p.title = "First and second harmonics along the flume";
+  p.x_label = "distance from the wave maker (wavelengths)";
+  p.y_label = "amplitude (m)";
+  std::vector<double> x, a1, a2;
+  for (const auto& g : a.gauges)
+    if (g.harmonics) {
+      x.push_back(g.distance / a.wave.wavelength);
+      a1.push_back(g.harmonics->amplitude[0]);
+      a2.push_back(g.harmonics->amplitude[1]);
+    }
+  if (x.empty()) throw AnalysisError("no gauge has steady waves: nothing to plot");
+  p.series.push_back(curve("first harmonic a1", x, a1, PlotSeries::Style::line_and_markers));
+  p.series.push_back(curve("second harmonic a2", x, a2, PlotSeries::Style::line_and_markers));
+  double top = std::max(*std::max_element(a1.begin(), a1.end()), 0.5 * a.wave.height);
+  if (a.wave.height > 0.0) {
+    PlotSeries target = curve("target H/2", {x.front(), x.back()}, {0.5 * a.wave.height, 0.5 * a.wave.height});
+    target.dashed = true;
+    p.series.push_back(target);
+    PlotSeries bound = curve("Stokes bound a2", {x.front(), x.back()},
+                             {a.wave.bound_second_harmonic, a.wave.bound_second_harmonic});
+    bound.dashed = true;
+    p.series.push_back(bound);
+  }
+  p.y_range = std::make_pair(0.0, 1.2 * top);
+  p.legend = Plot::LegendAt::top_right;
+  return p;
+}
+
+}  // namespace
+
+void write_flume_report(const FlumeAnalysis& a, const fs::path& run_dir, const fs::path& out_dir) {
+  create_directories_or_throw(out_dir);
+  write_file_atomic(out_dir / "gauges.csv", gauges_csv(a));
+  write_file_atomic(out_dir / "summary.csv", summary_csv(a));
+  HtmlReport html("Wave flume: " + run_dir.string());
+  html.heading("The wave");
+  html.paragraph(flume_table(a));
+  std::vector<std::vector<std::string>> rows;
+  for (const auto& g : a.gauges) {
+    const bool h = g.harmonics.has_value();
+    rows.push_back({g.name, fmt::format("{:.3f}", g.x), fmt::format("{:.2f}", g.distance / a.wave.wavelength),
+                    format_window(g.window), g.zero_crossing ? num(g.zero_crossing->mean_height) : "-",
+                    g.zero_crossing ? num(g.zero_crossing->mean_period) : "-",
+                    h ? num(2.0 * g.harmonics->amplitude[0]) : "-", num(height_error_percent(a, g), "{:+.1f}%"),
+                    h ? num(wrapped_degrees(g.harmonics->phase[0] - g.theory_phase), "{:+.0f}") : "-",
+                    h ? num(g.harmonics->amplitude[1], "{:.5f}") : "-", g.note});
+  }
+  html.heading("Gauges");
+  html.table({"gauge", "x (m)", "x/L", "window (s)", "H zc (m)", "T zc (s)", "H1 (m)", "H1 err", "phase lag (deg)",
+              "a2 (m)", "note"},
+             rows);
+  if (std::any_of(a.gauges.begin(), a.gauges.end(), [](const auto& g) { return g.harmonics.has_value(); })) {
+    const std::string svg = svg_plot(harmonics_plot(a));
+    write_file_atomic(out_dir / "harmonics.svg", svg);
+    html.figure(svg, "The first and second harmonics' amplitudes at each gauge with steady waves.");
+  }
+  for (const auto& g : a.gauges) {
+    const std::string svg = svg_plot(gauge_plot(a, g));
+    write_file_atomic(out_dir / ("eta_" + g.name + ".svg"), svg);
+    html.figure(svg, fmt::format("Gauge {}: the surface elevation, with linear theory over the steady window.", g.name));
+  }
+  write_file_atomic(out_dir / "report.html", html.html());
+}
+
+}  // namespace sluice::analysis

@@ -1,0 +1,78 @@
+// `sluice analyze` on a wave flume: a run whose case has a wave maker (law = "wave") or whose user
+// names the wave (--period): the regular waves at each gauge against linear theory, the decay of the
+// first harmonic along the flume and the reflection, as a table, CSVs, SVG plots and an HTML page.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sluice/analysis/series.hpp"
+#include "sluice/analysis/wave_gauges.hpp"
+#include "sluice/case/case.hpp"
+
+namespace sluice::analysis {
+
+struct FlumeOptions {
+  // The wave, when the case's wave maker does not say it (a paddle driven by a recorded motion):
+  // period (s), height (m, 0 = none to compare with) and depth (m, 0 = the still level at the gauges).
+  double period = 0.0, height = 0.0, depth = 0.0;
+  std::optional<double> maker_x;   // where distances are measured from (default: the wave maker's face)
+  std::optional<Window> window;    // the same window at every gauge (default: each gauge's steady window)
+};
+
+// The wave the flume is asked for: from the case's wave maker or the options.
+struct FlumeWave {
+  std::string maker;  // the wall's key, e.g. "wall[0].translation"; empty when from the options
+  double height = 0.0, period = 0.0, depth = 0.0;
+  double wavelength = 0.0, k = 0.0, omega = 0.0, group_velocity = 0.0;
+  // The amplitude of Stokes' second-order bound harmonic of the target wave,
+  // (k a^2 / 4) cosh(kh) (2 + cosh 2kh) / sinh^3(kh), a = H/2: what the second harmonic should be
+  // everywhere when no free second harmonic is made (second-order generation); 0 without a target.
+  double bound_second_harmonic = 0.0;
+  double start = 0.0, ramp_time = 0.0;  // when the maker starts, and how long it ramps up
+  double maker_x = 0.0;                 // the paddle's face at rest (a flap: its hinge)
+  int order = 1;
+};
+
+struct GaugeWaves {
+  std::string name;
+  double x = 0.0, distance = 0.0;  // distance from the maker (m)
+  Series eta;                      // the surface elevation (the level minus the still level)
+  std::optional<Window> window;    // nullopt: no steady waves reach it in the run
+  std::optional<ZeroCrossingWaves> zero_crossing;
+  std::optional<Harmonics> harmonics;  // first and second
+  double theory_phase = 0.0;       // of the first harmonic, linear theory from the maker's motion
+  std::string note;                // why a measurement is missing
+};
+
+struct FlumeAnalysis {
+  FlumeWave wave;
+  double still_level = 0.0;
+  double end_time = 0.0;
+  std::optional<double> reflector;  // the wall that reflects (distance from the maker); nullopt with a damping zone
+  std::vector<GaugeWaves> gauges;
+  std::optional<Decay> decay;                   // over the gauges with steady waves, outside the damping zone
+  std::optional<IncidentReflected> reflection;  // over the same gauges, in one common window
+  std::optional<Window> common_window;
+  std::vector<std::string> reflection_gauges;
+  std::vector<std::string> notes;
+};
+
+// Whether `sluice analyze` should treat the run as a wave flume: the case has a wave maker.
+bool has_wave_maker(const Case& c);
+
+// Throws AnalysisError when the wave cannot be known (no wave maker and no period) or the run has no
+// gauges.
+FlumeAnalysis analyze_flume(const std::filesystem::path& run_dir, const Case& c, const FlumeOptions& options);
+
+// The table printed on the terminal.
+std::string flume_table(const FlumeAnalysis& a);
+
+// Writes into out_dir: gauges.csv (per gauge: position, window, heights, harmonics, theory), summary.csv,
+// eta_<gauge>.svg (each gauge's series over the theory, its window shaded), harmonics.svg (the first and
+// second harmonic along the flume) and report.html.
+void write_flume_report(const FlumeAnalysis& a, const std::filesystem::path& run_dir, const std::filesystem::path& out_dir);
+
+}  // namespace sluice::analysis

@@ -1,0 +1,195 @@
+// The wave-flume measurements on signals with known answers: zero-crossing heights and periods, the
+// harmonics' amplitudes and phases, incident and reflected waves from two and three gauges, the decay
+// along the flume, the steady window; and `analyze_flume` on a run directory of synthetic gauge series
+// (an incident wave with a 10 % reflection), which must find the target's height, no phase lag and the
+// reflection.
+#include <gtest/gtest.h>
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <complex>
+#include <functional>
+#include <filesystem>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "sluice/analysis/wave_flume.hpp"
+#include "sluice/analysis/wave_gauges.hpp"
+#include "sluice/geometry/wave_theory.hpp"
+#include "sluice/io/atomic_file.hpp"
+
+using namespace sluice;
+using namespace sluice::analysis;
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double pi = std::numbers::pi;
+
+Series sampled(double t0, double t1, double dt, const std::function<double(double)>& f) {
+  Series s;
+  for (double t = t0; t <= t1 + 1e-12; t += dt) {
+    s.t.push_back(t);
+    s.y.push_back(f(t));
+  }
+  return s;
+}
+
+}  // namespace
+
+TEST(WaveGauges, ZeroCrossingsOfASineGiveItsHeightAndPeriod) {
+  const double period = 1.3, omega = 2.0 * pi / period;
+  const Series eta = sampled(0.0, 20.0, 0.005, [&](double t) { return 0.02 + 0.04 * std::sin(omega * t + 0.3); });
+  const ZeroCrossingWaves w = zero_crossing_waves(eta, 2.0, 15.0);
+  EXPECT_NEAR(w.mean_period, period, 1e-4);
+  EXPECT_NEAR(w.mean_height, 0.08, 1e-4);  // the samples miss the crest by at most 0.04 (1 - cos(omega dt / 2))
+  EXPECT_GE(w.waves, 9u);
+  EXPECT_LT(w.height_spread, 1e-4);
+  EXPECT_THROW(zero_crossing_waves(eta, 2.0, 2.5), AnalysisError);  // less than one wave
+}
+
+// Two harmonics and a mean, recovered to round-off over a window that is not a whole number of
+// periods; the phase grows along +x as k x.
+TEST(WaveGauges, HarmonicsAreFittedToRoundOff) {
+  const double omega = 2.0 * pi / 1.2;
+  const Series eta = sampled(0.0, 12.0, 0.01, [&](double t) {
+    return 0.003 + 0.04 * std::cos(omega * t - 1.1) + 0.005 * std::cos(2.0 * omega * t - 5.9);
+  });
+  const Harmonics h = fit_harmonics(eta, omega, 2, 3.05, 9.7);
+  EXPECT_NEAR(h.mean, 0.003, 1e-13);
+  EXPECT_NEAR(h.amplitude[0], 0.04, 1e-13);
+  EXPECT_NEAR(h.phase[0], 1.1, 1e-11);
+  EXPECT_NEAR(h.amplitude[1], 0.005, 1e-13);
+  EXPECT_NEAR(h.phase[1], 5.9, 1e-10);
+  EXPECT_LT(h.rms_residual, 1e-14);
+  const std::complex<double> z = h.complex(1);
+  EXPECT_NEAR(std::real(z * std::polar(1.0, omega * 4.0)), 0.04 * std::cos(omega * 4.0 - 1.1), 1e-13);
+  EXPECT_THROW(fit_harmonics(eta, omega, 2, 3.0, 3.5), AnalysisError);  // shorter than a period
+}
+
+// An incident wave and a reflected one of 30 % at an arbitrary phase: two gauges (Goda & Suzuki) and
+// three (least squares) give them back exactly; gauges half a wavelength apart cannot.
+TEST(WaveGauges, IncidentAndReflectedWavesAreSeparated) {
+  const double k = 2.0 * pi / 2.0;  // L = 2 m
+  const std::complex<double> incident = std::polar(0.04, -0.7), reflected = std::polar(0.012, 2.2);
+  auto at = [&](double x) { return incident * std::polar(1.0, -k * x) + reflected * std::polar(1.0, k * x); };
+  for (const std::vector<double>& x : {std::vector<double>{3.0, 3.5}, std::vector<double>{3.0, 3.35, 3.8}}) {
+    std::vector<std::complex<double>> z;
+    for (double xm : x) z.push_back(at(xm));
+    const IncidentReflected r = separate_incident_reflected(x, z, k);
+    EXPECT_NEAR(r.incident, 0.04, 1e-14);
+    EXPECT_NEAR(r.reflected, 0.012, 1e-14);
+    EXPECT_NEAR(r.coefficient, 0.3, 1e-12);
+    EXPECT_LT(r.residual, 1e-15);
+    EXPECT_GT(r.conditioning, 0.3);
+  }
+  EXPECT_THROW(separate_incident_reflected({3.0, 4.0}, {at(3.0), at(4.0)}, k), AnalysisError);
+  EXPECT_LT(separate_incident_reflected({3.0, 3.98}, {at(3.0), at(3.98)}, k).conditioning, 0.1);
+}
+
+TEST(WaveGauges, DecayPerWavelengthOfAnExponentialAmplitude) {
+  const double wavelength = 1.5, lost = 0.02;  // 2 % per wavelength
+  std::vector<double> x, a;
+  for (double xm : {1.0, 2.5, 4.0, 7.0}) {
+    x.push_back(xm);
+    a.push_back(0.04 * std::pow(1.0 - lost, xm / wavelength));
+  }
+  const Decay d = amplitude_decay(x, a, wavelength);
+  EXPECT_NEAR(d.per_wavelength, lost, 1e-13);
+  EXPECT_NEAR(d.a0, 0.04, 1e-14);
+  EXPECT_THROW(amplitude_decay({1.0}, {0.04}, wavelength), AnalysisError);
+  EXPECT_THROW(amplitude_decay({1.0, 2.0}, {0.04, 0.0}, wavelength), AnalysisError);
+}
+
+// Steady waves reach a gauge after the ramp and the travel at the group velocity (plus settling
+// periods), and stay until the run ends or the far wall's reflection returns.
+TEST(WaveGauges, TheSteadyWindowStartsAfterTheFrontAndEndsBeforeTheReflection) {
+  const auto open = steady_window(4.0, 0.5, 2.4, 2.0, 1.2, 30.0, std::nullopt);
+  ASSERT_TRUE(open);
+  EXPECT_DOUBLE_EQ(open->t0, 0.5 + 2.4 + 2.0 + 2.4);
+  EXPECT_NEAR(open->periods(1.2), 18.0, 1e-9);  // floor((30 - 7.3) / 1.2)
+  const auto walled = steady_window(4.0, 0.5, 2.4, 2.0, 1.2, 30.0, 20.0);
+  ASSERT_TRUE(walled);
+  EXPECT_LE(walled->t1, 0.5 + (40.0 - 4.0) / 2.0 - 1.2);
+  EXPECT_GT(walled->t1, 0.5 + (40.0 - 4.0) / 2.0 - 2.4);
+  EXPECT_FALSE(steady_window(4.0, 0.5, 2.4, 2.0, 1.2, 8.0, std::nullopt));
+}
+
+// A run directory of gauge series: linear waves of the wave maker's target from its start (no ramp),
+// with a 10 % reflection from the far end, at five gauges. The analysis finds the target height, the
+// period, no phase lag and the reflection, and writes its report.
+TEST(WaveFlume, AnalysisOfSyntheticGaugesFindsTheWaveAndItsReflection) {
+  Case c;
+  c.tank_width = 12.0;
+  c.tank_height = 0.8;
+  c.gravity = {0.0, -9.81, 0.0};
+  Region piston;
+  piston.name = "piston";
+  piston.max = {0.12, 0.7, 0.0};
+  piston.translation.law = MotionLawType::wave;
+  piston.translation.height = 0.06;
+  piston.translation.period = 1.2;
+  piston.translation.depth = 0.4;
+  piston.translation.start = 0.5;
+  c.walls.push_back(piston);
+  const std::vector<double> gauge_x = {1.5, 2.5, 3.0, 3.7, 4.5};
+  for (std::size_t m = 0; m < gauge_x.size(); ++m) {
+    Probe p;
+    p.name = fmt::format("g{}", m + 1);
+    p.type = ProbeType::gauge;
+    p.point = {gauge_x[m], 0.0, 0.0};
+    c.probes.push_back(p);
+  }
+  c.damping_length = 2.0;  // an absorbing end: the window runs to the end
+  c.damping_start = {10.0, 0.0, 0.0};
+  const double omega = 2.0 * pi / 1.2, k = waves::wavenumber(omega, 0.4), reflector = 10.0;
+  const fs::path dir = fs::temp_directory_path() / fmt::format("sluice_flume_{}", getpid());
+  fs::remove_all(dir);
+  fs::create_directories(dir / "probes");
+  for (std::size_t m = 0; m < gauge_x.size(); ++m) {
+    const double x = gauge_x[m] - 0.12;
+    std::string csv = "time,height\n";
+    for (int j = 0; j <= 3000; ++j) {
+      const double t = 0.01 * j, tau = t - 0.5;
+      double eta = 0.0;
+      if (tau > 0.0) eta = 0.03 * std::cos(omega * tau - k * x) + 0.003 * std::cos(omega * tau + k * x - 2.0 * k * reflector);
+      csv += fmt::format("{},{}\n", t, 0.4 + eta);
+    }
+    write_file_atomic(dir / "probes" / (c.probes[m].name + ".csv"), csv);
+  }
+  const FlumeAnalysis a = analyze_flume(dir, c, {});
+  EXPECT_NEAR(a.wave.maker_x, 0.12, 1e-15);
+  ASSERT_EQ(a.gauges.size(), 5u);
+  for (const auto& g : a.gauges) {
+    ASSERT_TRUE(g.harmonics) << g.name << ": " << g.note;
+    EXPECT_NEAR(g.zero_crossing->mean_period, 1.2, 1e-3) << g.name;
+    // The local amplitude beats between 0.027 and 0.033 with the reflection.
+    EXPECT_NEAR(2.0 * g.harmonics->amplitude[0], 0.06, 0.0061) << g.name;
+  }
+  ASSERT_TRUE(a.reflection);
+  EXPECT_NEAR(a.reflection->coefficient, 0.1, 1e-6);
+  EXPECT_NEAR(a.reflection->incident, 0.03, 1e-7);
+  // The incident wave alone has the target's phase everywhere: its lag is that of the local sum, which
+  // the reflection moves by at most asin(0.1) = 5.7 degrees.
+  for (const auto& g : a.gauges) {
+    const double lag = std::remainder(g.harmonics->phase[0] - g.theory_phase, 2.0 * pi) * 180.0 / pi;
+    EXPECT_LT(std::abs(lag), 5.8) << g.name;
+  }
+  ASSERT_TRUE(a.decay);
+  EXPECT_LT(std::abs(a.decay->per_wavelength), 0.1);
+  const std::string table = flume_table(a);
+  EXPECT_NE(table.find("reflection Kr = 0.100"), std::string::npos) << table;
+  write_flume_report(a, dir, dir / "analysis");
+  for (const char* f : {"gauges.csv", "summary.csv", "harmonics.svg", "eta_g1.svg", "report.html"})
+    EXPECT_TRUE(fs::exists(dir / "analysis" / f)) << f;
+  FlumeOptions none;
+  Case no_maker = c;
+  no_maker.walls.clear();
+  EXPECT_THROW(analyze_flume(dir, no_maker, none), AnalysisError);
+  none.period = 1.2;
+  EXPECT_NO_THROW(analyze_flume(dir, no_maker, none));
+  fs::remove_all(dir);
+}
