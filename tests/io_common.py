@@ -16,7 +16,8 @@ import zlib
 import meshio
 import numpy as np
 
-# A coarse dam break (the default case's geometry) with one probe of each type: about 800 particles,
+# A coarse dam break (the default case's geometry) with one probe of each type (and a gauge reading the
+# kernel's surface, whose sums over processes the MPI tests compare): about 800 particles,
 # a fraction of a second of wall time per simulated second.
 CASE = """
 [case]
@@ -54,6 +55,12 @@ point = [19.6, 0.6]
 name = "gauge_mid"
 type = "gauge"
 point = [10.0, 0.0]
+interval = 0.05
+[[probe]]
+name = "surface_mid"
+type = "gauge"
+point = [10.0, 0.0]
+measure = "surface"
 interval = 0.05
 [[probe]]
 name = "front"

@@ -19,6 +19,7 @@ GROWING = {  # file -> what it ends with after every write
     "io_test.pvd": PVD_FOOTER,
     os.path.join("probes", "wall_pressure.csv"): b"\n",
     os.path.join("probes", "gauge_mid.csv"): b"\n",
+    os.path.join("probes", "surface_mid.csv"): b"\n",
     os.path.join("probes", "front.csv"): b"\n",
 }
 

@@ -778,6 +778,9 @@ TEST(CaseValidation, APistonWaveMakerAndADampingZone) {
   EXPECT_EQ(parse(flap + "centre = [0.08, 0.1]\n").walls[0].rotation.law, MotionLawType::wave);
   expect_contains(parse_error(flap + "centre = [0.08, 0.5]\n"),
                   {"wall[0].rotation.centre = [0.08, 0.5]: a flap's hinge 0.5 m above the floor is not in the water"});
+  expect_contains(parse_error(flume + "[tank.translation]\nlaw = \"wave\"\ndirection = [1.0, 0.0]\nheight = 0.08\n"
+                                      "period = 1.2\ndepth = 0.4\n"),
+                  {"tank.translation.law = \"wave\": the tank cannot be a wave maker"});
   expect_contains(parse_error(flap + "centre = [0.08, 0.1]\norder = 2\n"),
                   {"wall[0].rotation.order = 2: second-order generation is for a piston"});
   expect_contains(parse_error(flume + piston + "gain = 1.0\n" + "[damping]\nlength = 1.0\nstart = [7.0, 0.0]\n"),

@@ -27,7 +27,7 @@ def test_every_file_is_readable_and_expected():
     expected = sorted(
         [f"frames/frame_{k:06}.{ext}" for k in range(5) for ext in ("npz", "vtu")] +
         ["io_test.pvd", "diagnostics.csv", "checkpoint.bin", "summary.txt",
-         "probes/wall_pressure.csv", "probes/gauge_mid.csv", "probes/front.csv"])
+         "probes/wall_pressure.csv", "probes/gauge_mid.csv", "probes/surface_mid.csv", "probes/front.csv"])
     check(names == expected, f"files {names}, expected {expected}")
 
 

@@ -174,10 +174,12 @@ FlumeAnalysis analyze_flume(const fs::path& run_dir, const Case& c, const FlumeO
   for (const auto& gw : a.gauges)
     if (gw.harmonics && gw.distance > 0.0 && gw.note.empty()) used.push_back(&gw);
   if (!common && used.size() >= 2) {
-    Window cw{-1e300, 1e300};
+    // From the last gauge's start to the first end (the run's, or a reflection's return), before the
+    // windows were cut to whole periods.
+    Window cw{-1e300, a.end_time};
     for (const auto* gw : used) {
       cw.t0 = std::max(cw.t0, gw->window->t0);
-      cw.t1 = std::min(cw.t1, gw->window->t1);
+      if (a.reflector) cw.t1 = std::min(cw.t1, w.start + (2.0 * *a.reflector - gw->distance) / w.group_velocity - w.period);
     }
     const double whole = std::floor((cw.t1 - cw.t0) / w.period + 1e-9);
     if (whole >= 2.0) {
@@ -194,12 +196,17 @@ FlumeAnalysis analyze_flume(const fs::path& run_dir, const Case& c, const FlumeO
       a.reflection_gauges.push_back(gw->name);
     }
     try {
-      a.reflection = separate_incident_reflected(x, z, w.k);
-      a.common_window = common;
-      if (a.reflection->conditioning < 0.15)
-        a.notes.push_back(fmt::format("the gauges are close to a whole number of half wavelengths apart "
-                                      "(conditioning {:.2f}): the reflection coefficient is uncertain",
-                                      a.reflection->conditioning));
+      const IncidentReflected r = separate_incident_reflected(x, z, w.k);
+      // Goda & Suzuki's range for two gauges, 0.05 < spacing / L < 0.45, is a conditioning above 0.158.
+      if (r.conditioning >= 0.15) {
+        a.reflection = r;
+        a.common_window = common;
+      } else {
+        a.notes.push_back(fmt::format("reflection: not measured: the gauges are too close to a whole number of half "
+                                      "wavelengths apart to tell incident from reflected waves (conditioning {:.2f}, "
+                                      "expected 0.15 or more); add a gauge a quarter wavelength from the others",
+                                      r.conditioning));
+      }
     } catch (const AnalysisError& e) {
       a.notes.push_back(e.what());
     }
@@ -325,7 +332,7 @@ Plot harmonics_plot(const FlumeAnalysis& a) {
     bound.dashed = true;
     p.series.push_back(bound);
   }
-  p.y_range = std::make_pair(0.0, 1.2 * top);
+  p.y_range = std::make_pair(0.0, 1.5 * top);  // the legend above the first harmonic
   p.legend = Plot::LegendAt::top_right;
   return p;
 }
@@ -337,8 +344,23 @@ void write_flume_report(const FlumeAnalysis& a, const fs::path& run_dir, const f
   write_file_atomic(out_dir / "gauges.csv", gauges_csv(a));
   write_file_atomic(out_dir / "summary.csv", summary_csv(a));
   HtmlReport html("Wave flume: " + run_dir.string());
+  const FlumeWave& w = a.wave;
   html.heading("The wave");
-  html.paragraph(flume_table(a));
+  html.paragraph(fmt::format("Wave maker: {}. Target: H = {} m, T = {:.4g} s on h = {:.4g} m: wavelength L = {:.4g} m, "
+                             "kh = {:.3f}, group velocity {:.4g} m/s; Stokes' second-order bound harmonic a2 = {:.5f} m.",
+                             w.maker.empty() ? std::string("given by the options") : w.maker,
+                             w.height > 0.0 ? fmt::format("{:.4g}", w.height) : std::string("(none given)"), w.period,
+                             w.depth, w.wavelength, w.k * w.depth, w.group_velocity, w.bound_second_harmonic));
+  if (a.decay)
+    html.paragraph(fmt::format("Decay of the first harmonic: {:.2f} % per wavelength (a1 = A0 exp(-beta x) over {} "
+                               "gauges outside the damping zone).",
+                               100.0 * a.decay->per_wavelength, a.decay->gauges));
+  if (a.reflection)
+    html.paragraph(fmt::format("Reflection: Kr = {:.3f} (incident {:.4g} m, reflected {:.4g} m) from gauges {} over "
+                               "{} s.",
+                               a.reflection->coefficient, a.reflection->incident, a.reflection->reflected,
+                               fmt::join(a.reflection_gauges, ", "), format_window(a.common_window)));
+  for (const auto& n : a.notes) html.paragraph("Note: " + n);
   std::vector<std::vector<std::string>> rows;
   for (const auto& g : a.gauges) {
     const bool h = g.harmonics.has_value();

@@ -340,6 +340,10 @@ struct Checker {
       if ((m.law == MotionLawType::sinusoidal || m.law == MotionLawType::wave) && !(m.period > 0.0))
         fail(fmt::format("{}.period = {} s: a {} law needs its period; expected a period > 0", key, m.period,
                          name_of(m.law, motion_law_names)));
+      if (m.law == MotionLawType::wave && key.rfind("tank.", 0) == 0)
+        fail(fmt::format("{}.law = \"wave\": the tank cannot be a wave maker; expected a [[wall]] with law = \"wave\" "
+                         "as the paddle (a piston or a flap) inside the tank",
+                         key));
       if (m.law == MotionLawType::wave) check_wave_maker(m, key, rotation);
       if (m.law == MotionLawType::polynomial && m.coefficients.empty())
         fail(fmt::format("{}.coefficients is empty: a polynomial law needs them; expected [c0, c1, ...]", key));
