@@ -312,13 +312,17 @@ Plot harmonics_plot(const FlumeAnalysis& a) {
   p.title = "First and second harmonics along the flume";
   p.x_label = "distance from the wave maker (wavelengths)";
   p.y_label = "amplitude (m)";
-  std::vector<double> x, a1, a2;
+  // The gauges in order along the flume, whatever their order in the case.
+  std::vector<const GaugeWaves*> along;
   for (const auto& g : a.gauges)
-    if (g.harmonics) {
-      x.push_back(g.distance / a.wave.wavelength);
-      a1.push_back(g.harmonics->amplitude[0]);
-      a2.push_back(g.harmonics->amplitude[1]);
-    }
+    if (g.harmonics) along.push_back(&g);
+  std::sort(along.begin(), along.end(), [](const auto* p, const auto* q) { return p->distance < q->distance; });
+  std::vector<double> x, a1, a2;
+  for (const auto* g : along) {
+    x.push_back(g->distance / a.wave.wavelength);
+    a1.push_back(g->harmonics->amplitude[0]);
+    a2.push_back(g->harmonics->amplitude[1]);
+  }
   if (x.empty()) throw AnalysisError("no gauge has steady waves: nothing to plot");
   p.series.push_back(curve("first harmonic a1", x, a1, PlotSeries::Style::line_and_markers));
   p.series.push_back(curve("second harmonic a2", x, a2, PlotSeries::Style::line_and_markers));
