@@ -48,6 +48,20 @@ std::vector<double> parse_dx_list(const std::string& text) {
   return out;
 }
 
+// A positive finite number, with a message that says so (CLI11's PositiveNumber names its range up
+// to 1.8e308).
+CLI::Validator positive_number() {
+  return CLI::Validator(
+      [](std::string& text) {
+        double v = 0.0;
+        const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+        if (ec != std::errc() || ptr != text.data() + text.size() || !(v > 0.0) || !std::isfinite(v))
+          return fmt::format("'{}' is not a positive number", text);
+        return std::string();
+      },
+      "POSITIVE");
+}
+
 int threads_or_all(int threads) { return threads > 0 ? threads : omp_get_num_procs(); }
 
 struct AnalyzeArgs {
@@ -219,15 +233,15 @@ Command add_analyze_command(CLI::App& app) {
   cmd->add_option("--threshold", args->threshold,
                   "Height (m) above the initial surface that marks the wave front (default: 10% of the initial step "
                   "between the walls' depths)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   cmd->add_option("--period", args->period,
                   "Wave flume: the waves' period (s), for a paddle without law = \"wave\" (a recorded motion); a run "
                   "with a wave maker or this option is analysed at its gauges")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   cmd->add_option("--height", args->height, "Wave flume: the target wave height (m) to compare with")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   cmd->add_option("--depth", args->depth, "Wave flume: the still water's depth (m) for the dispersion relation")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   cmd->add_option("--maker-x", args->maker_x, "Wave flume: x of the wave maker's face (m), where distances start");
   cmd->add_option("--window", args->window,
                   "Wave flume: T0,T1 (s), one window for every gauge (default: each gauge's steady window, from the "
@@ -247,14 +261,14 @@ Command add_convergence_command(CLI::App& app) {
   cmd->add_option("--end", args->end,
                   "Simulated time of each run (default: the time a shallow-water wave takes to cross the tank, "
                   "plus 20%, at most the case's end)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   cmd->add_option("--interval", args->interval,
                   "Frame interval in seconds for the front position (default: 1/50 of the shallow-water crossing "
                   "time)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   cmd->add_option("--threshold", args->threshold,
                   "Height (m) above the initial surface that marks the wave front (default: 10% of the initial step)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   cmd->add_option("--set", args->sets, "Override a case key for every run (repeatable)")->allow_extra_args(false);
   cmd->add_option("-o,--output", args->output, "Output directory (default: out/<case>_convergence)");
   cmd->add_option("--threads", args->threads, "Threads per run (default: all cores)")->check(CLI::Range(1, 1024));
