@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "sluice/analysis/html_report.hpp"
+#include "sluice/analysis/reference_data.hpp"
 #include "sluice/analysis/svg_plot.hpp"
 #include "sluice/analysis/table.hpp"
 #include "sluice/geometry/wave_theory.hpp"
@@ -37,6 +38,61 @@ double face_x(const Region& wall) {
   return wall.max[0];
 }
 
+// The first wall driven by a recorded motion (law = "file"): its index, and which law.
+struct RecordedMaker {
+  std::size_t wall = 0;
+  bool rotation = false;
+  const MotionLawSpec* law = nullptr;
+};
+std::optional<RecordedMaker> recorded_maker(const Case& c) {
+  for (std::size_t i = 0; i < c.walls.size(); ++i)
+    for (bool rotation : {false, true}) {
+      const MotionLawSpec& m = rotation ? c.walls[i].rotation : c.walls[i].translation;
+      if (m.law == MotionLawType::file) return RecordedMaker{i, rotation, &m};
+    }
+  return std::nullopt;
+}
+
+// The record as a table: the file on disk, or the record of that name built into the binary.
+Table record_table(const MotionLawSpec& m) {
+  std::error_code ec;
+  if (fs::exists(m.file, ec)) return read_csv_table(m.file);
+  return reference_table(m.file);
+}
+
+// The record's column holding gauge `name`'s measurement: "name", or "name [unit]".
+std::optional<std::size_t> gauge_column(const Table& t, const std::string& name) {
+  for (std::size_t k = 0; k < t.columns.size(); ++k)
+    if (t.columns[k] == name || t.columns[k].starts_with(name + " [")) return k;
+  return std::nullopt;
+}
+
+// The start, ramp and (when not given) period of a recorded paddle: it starts when it first moves by
+// 2 % of its largest excursion from where it stood, has ramped up when it first reaches 90 % of it,
+// and its period is the mean zero-crossing period after that, up to `until`.
+void read_record_timing(const MotionSeries& record, double until, FlumeWave& w) {
+  Series r{record.times, record.values};
+  for (double& y : r.y) y -= record.values.front();
+  double peak = 0.0;
+  for (double y : r.y) peak = std::max(peak, std::abs(y));
+  if (!(peak > 0.0)) throw AnalysisError(fmt::format("the paddle's record {} does not move", w.record));
+  std::size_t j = 0;
+  while (std::abs(r.y[j]) < 0.02 * peak) ++j;
+  w.start = r.t[j];
+  while (std::abs(r.y[j]) < 0.9 * peak) ++j;
+  w.ramp_time = r.t[j] - w.start;
+  if (!(w.period > 0.0)) {
+    const double t1 = std::min(until, r.t.back());
+    try {
+      w.period = zero_crossing_waves(r, r.t[j], t1).mean_period;
+    } catch (const AnalysisError& e) {
+      throw AnalysisError(fmt::format("the paddle's record {} holds no whole period between t = {:.3g} s (after its "
+                                      "ramp) and t = {:.3g} s (the run's end): {}; expected --period",
+                                      w.record, r.t[j], t1, e.what()));
+    }
+  }
+}
+
 FlumeWave wave_of(const Case& c, const FlumeOptions& o) {
   FlumeWave w;
   for (std::size_t i = 0; i < c.walls.size() && w.maker.empty(); ++i)
@@ -60,12 +116,20 @@ FlumeWave wave_of(const Case& c, const FlumeOptions& o) {
         w.maker_x = wall.rotation.law != MotionLawType::none ? wall.rotation.centre[0] : face_x(wall);
         break;
       }
+    if (const auto r = recorded_maker(c)) {
+      const Region& wall = c.walls[r->wall];
+      w.maker = fmt::format("wall[{}].{} ({}), driven by the record {}", r->wall,
+                            r->rotation ? "rotation" : "translation", wall.name, r->law->file);
+      w.record = r->law->file;
+      w.record_time_offset = r->law->time_offset;
+      w.maker_x = r->rotation ? r->law->centre[0] : face_x(wall);
+    }
   }
   if (o.period > 0.0) w.period = o.period;
   if (o.height > 0.0) w.height = o.height;
   if (o.depth > 0.0) w.depth = o.depth;
   if (o.maker_x) w.maker_x = *o.maker_x;
-  if (!(w.period > 0.0))
+  if (!(w.period > 0.0) && w.record.empty())
     throw AnalysisError("the case has no wave maker (a wall with law = \"wave\"); expected the wave's period with "
                         "--period (and --height, --depth to compare with theory)");
   return w;
@@ -81,6 +145,21 @@ double height_error_percent(const FlumeAnalysis& a, const GaugeWaves& g) {
   return 100.0 * (2.0 * g.harmonics->amplitude[0] / a.wave.height - 1.0);
 }
 
+// The first harmonic's amplitude against the measured one, in percent, and how far its phase runs
+// behind the measured one, in degrees (positive: the simulated wave arrives later); nan without both.
+double measured_error_percent(const GaugeWaves& g) {
+  if (!g.harmonics || !g.measured_harmonics) return std::nan("");
+  return 100.0 * (g.harmonics->amplitude[0] / g.measured_harmonics->amplitude[0] - 1.0);
+}
+double measured_phase_lag(const GaugeWaves& g) {
+  if (!g.harmonics || !g.measured_harmonics) return std::nan("");
+  return wrapped_degrees(g.harmonics->phase[0] - g.measured_harmonics->phase[0]);
+}
+
+bool has_measurements(const FlumeAnalysis& a) {
+  return std::any_of(a.gauges.begin(), a.gauges.end(), [](const auto& g) { return g.measured_harmonics.has_value(); });
+}
+
 std::string num(double v, const char* spec = "{:.4f}") {
   return std::isfinite(v) ? fmt::format(fmt::runtime(spec), v) : std::string("-");
 }
@@ -90,6 +169,15 @@ std::string num(double v, const char* spec = "{:.4f}") {
 bool has_wave_maker(const Case& c) {
   for (const auto& wall : c.walls)
     if (wall.translation.law == MotionLawType::wave || wall.rotation.law == MotionLawType::wave) return true;
+  const auto r = recorded_maker(c);
+  if (!r) return false;
+  try {
+    const Table t = record_table(*r->law);
+    for (const auto& p : c.probes)
+      if (p.type == ProbeType::gauge && gauge_column(t, p.name)) return true;
+  } catch (const AnalysisError&) {
+    return false;  // a record that cannot be read holds no measurements to compare with
+  }
   return false;
 }
 
@@ -114,6 +202,15 @@ FlumeAnalysis analyze_flume(const fs::path& run_dir, const Case& c, const FlumeO
     levels.push_back(read_csv_table(file).series("time", "height"));
     if (levels.back().size() < 2) throw AnalysisError(fmt::format("{}: fewer than two samples", file.string()));
   }
+  for (const Series& s : levels) a.end_time = std::max(a.end_time, s.t.back());
+  std::optional<Table> record;
+  if (!w.record.empty()) {
+    const auto r = recorded_maker(c);
+    if (!r->law->series) throw AnalysisError(fmt::format("the paddle's record {} was not read with the case", w.record));
+    read_record_timing(*r->law->series, a.end_time, w);
+    if (options.period > 0.0) w.period = options.period;
+    record = record_table(*r->law);
+  }
   if (!(w.depth > 0.0)) w.depth = levels.front().y.front();
   w.omega = two_pi / w.period;
   w.k = waves::wavenumber(w.omega, w.depth, g);
@@ -127,7 +224,6 @@ FlumeAnalysis analyze_flume(const fs::path& run_dir, const Case& c, const FlumeO
   }
   a.still_level = w.depth;
   if (!c.damps()) a.reflector = c.tank_size()[0] - w.maker_x;
-  for (const Series& s : levels) a.end_time = std::max(a.end_time, s.t.back());
 
   std::vector<double> decay_x, decay_a;
   for (std::size_t i = 0; i < gauges.size(); ++i) {
@@ -148,12 +244,37 @@ FlumeAnalysis analyze_flume(const fs::path& run_dir, const Case& c, const FlumeO
     gw.window = options.window ? options.window
                                : steady_window(gw.distance, w.start, w.ramp_time, w.group_velocity, w.period,
                                                s.t.back(), a.reflector);
+    if (record && c.damps() && !options.window && gw.window) {
+      // Before the beach the damping zone stands for reflects the steady waves back to the gauge.
+      const double beach = (c.damping_start[0] - w.maker_x) * c.damping_direction[0];
+      const double back = w.start + w.ramp_time + (2.0 * beach - gw.distance) / w.group_velocity - w.period;
+      const double whole = std::floor((std::min(gw.window->t1, back) - gw.window->t0) / w.period + 1e-9);
+      if (whole >= 2.0)
+        gw.window->t1 = gw.window->t0 + whole * w.period;
+      else
+        gw.window.reset();
+    }
+    if (record) {
+      const auto r = recorded_maker(c);
+      if (const auto col = gauge_column(*record, gw.name)) {
+        Series m = record->series(r->law->time_column, record->columns[*col]);
+        for (double& t : m.t) t += w.record_time_offset;
+        double still_m = 0.0;
+        std::size_t n = 0;
+        for (std::size_t j = 0; j < m.size() && m.t[j] <= w.start; ++j, ++n) still_m += m.y[j];
+        if (n > 0)
+          for (double& y : m.y) y -= still_m / static_cast<double>(n);
+        gw.measured = std::move(m);
+      }
+    }
     if (!gw.window) {
-      gw.note = "no steady waves reach it before the run ends (or before the reflection returns)";
+      gw.note = record && c.damps() ? "no two steady periods reach it before the beach's reflection returns"
+                                    : "no steady waves reach it before the run ends (or before the reflection returns)";
     } else {
       try {
         gw.zero_crossing = zero_crossing_waves(gw.eta, gw.window->t0, gw.window->t1);
         gw.harmonics = fit_harmonics(gw.eta, w.omega, 2, gw.window->t0, gw.window->t1);
+        if (gw.measured) gw.measured_harmonics = fit_harmonics(*gw.measured, w.omega, 2, gw.window->t0, gw.window->t1);
       } catch (const AnalysisError& e) {
         gw.note = e.what();
       }
@@ -229,7 +350,9 @@ std::string flume_table(const FlumeAnalysis& a) {
   for (const auto& g : a.gauges) {
     const double h1 = g.harmonics ? 2.0 * g.harmonics->amplitude[0] : std::nan("");
     const double a2 = g.harmonics ? g.harmonics->amplitude[1] : std::nan("");
-    const double phase = g.harmonics ? wrapped_degrees(g.harmonics->phase[0] - g.theory_phase) : std::nan("");
+    // A recorded paddle's motion is not linear theory's: its phase is compared with the measurement.
+    const double phase = g.harmonics && w.record.empty() ? wrapped_degrees(g.harmonics->phase[0] - g.theory_phase)
+                                                         : std::nan("");
     s += fmt::format("  {:<10} {:>7.3f} {:>6.2f} {:>13} {:>8} {:>8} {:>8} {:>7} {:>7} {:>8}{}\n", g.name, g.x,
                      g.distance / w.wavelength, format_window(g.window),
                      g.zero_crossing ? num(g.zero_crossing->mean_height) : "-",
@@ -239,6 +362,20 @@ std::string flume_table(const FlumeAnalysis& a) {
   }
   s += "  (H zc, T zc: mean zero-crossing height and period; H1 = 2 a1 and a2: the first and second harmonics "
        "fitted; H1 err against the target; phase: the first harmonic's lag behind linear theory, degrees)\n";
+  if (has_measurements(a)) {
+    s += fmt::format("  against the measurements in {} (each gauge's window):\n", a.wave.record);
+    s += fmt::format("  {:<10} {:>7} {:>13} {:>9} {:>9} {:>8} {:>9} {:>9} {:>9}\n", "gauge", "x (m)", "window (s)",
+                     "a1 sim", "a1 meas", "a1 err", "phase lag", "a2 sim", "a2 meas");
+    for (const auto& g : a.gauges) {
+      if (!g.measured_harmonics) continue;
+      s += fmt::format("  {:<10} {:>7.3f} {:>13} {:>9.5f} {:>9.5f} {:>8} {:>9} {:>9.5f} {:>9.5f}\n", g.name, g.x,
+                       format_window(g.window), g.harmonics->amplitude[0], g.measured_harmonics->amplitude[0],
+                       num(measured_error_percent(g), "{:+.1f}%"), num(measured_phase_lag(g), "{:+.1f}"),
+                       g.harmonics->amplitude[1], g.measured_harmonics->amplitude[1]);
+    }
+    s += "  (a1, a2: first and second harmonic amplitudes (m), simulated and measured; phase lag: how far the simulated "
+         "first harmonic runs behind the measured one, degrees)\n";
+  }
   if (a.decay)
     s += fmt::format("  decay      {:.2f} % of the first harmonic per wavelength over {} gauges\n",
                      100.0 * a.decay->per_wavelength, a.decay->gauges);
@@ -256,18 +393,23 @@ std::string gauges_csv(const FlumeAnalysis& a) {
   std::string s =
       "gauge,x,distance,distance_over_wavelength,t0,t1,zero_crossing_height,zero_crossing_period,waves,"
       "first_harmonic_amplitude,first_harmonic_phase,second_harmonic_amplitude,second_harmonic_phase,mean,"
-      "target_height,theory_phase,phase_lag_degrees\n";
+      "target_height,theory_phase,phase_lag_degrees,measured_first_harmonic_amplitude,measured_first_harmonic_phase,"
+      "measured_second_harmonic_amplitude,first_harmonic_error_vs_measured_percent,phase_lag_behind_measured_degrees\n";
   for (const auto& g : a.gauges) {
     auto v = [](bool has, double x) { return has ? fmt::format("{}", x) : std::string(); };
     const bool h = g.harmonics.has_value(), z = g.zero_crossing.has_value(), win = g.window.has_value();
-    s += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", g.name, g.x, g.distance,
+    const bool m = g.measured_harmonics.has_value();
+    s += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", g.name, g.x, g.distance,
                      g.distance / a.wave.wavelength, v(win, win ? g.window->t0 : 0), v(win, win ? g.window->t1 : 0),
                      v(z, z ? g.zero_crossing->mean_height : 0), v(z, z ? g.zero_crossing->mean_period : 0),
                      v(z, z ? static_cast<double>(g.zero_crossing->waves) : 0), v(h, h ? g.harmonics->amplitude[0] : 0),
                      v(h, h ? g.harmonics->phase[0] : 0), v(h, h ? g.harmonics->amplitude[1] : 0),
                      v(h, h ? g.harmonics->phase[1] : 0), v(h, h ? g.harmonics->mean : 0),
                      v(a.wave.height > 0.0, a.wave.height), g.theory_phase,
-                     v(h, h ? wrapped_degrees(g.harmonics->phase[0] - g.theory_phase) : 0));
+                     v(h, h ? wrapped_degrees(g.harmonics->phase[0] - g.theory_phase) : 0),
+                     v(m, m ? g.measured_harmonics->amplitude[0] : 0), v(m, m ? g.measured_harmonics->phase[0] : 0),
+                     v(m, m ? g.measured_harmonics->amplitude[1] : 0), v(m, measured_error_percent(g)),
+                     v(m, measured_phase_lag(g)));
   }
   return s;
 }
@@ -279,6 +421,16 @@ std::string summary_csv(const FlumeAnalysis& a) {
   s += fmt::format("target height,{},m\nperiod,{},s\ndepth,{},m\nwavelength,{},m\nkh,{},\ngroup velocity,{},m/s\n",
                    w.height, w.period, w.depth, w.wavelength, w.k * w.depth, w.group_velocity);
   if (a.decay) s += fmt::format("first-harmonic decay per wavelength,{},\n", a.decay->per_wavelength);
+  if (has_measurements(a)) {
+    double amplitude = 0.0, phase = 0.0;
+    for (const auto& g : a.gauges)
+      if (g.measured_harmonics) {
+        amplitude = std::max(amplitude, std::abs(measured_error_percent(g)));
+        phase = std::max(phase, std::abs(measured_phase_lag(g)));
+      }
+    s += fmt::format("largest first-harmonic error against the measurements,{},%\n", amplitude);
+    s += fmt::format("largest first-harmonic phase difference from the measurements,{},deg\n", phase);
+  }
   if (a.reflection)
     s += fmt::format("reflection coefficient,{},\nincident amplitude,{},m\nreflected amplitude,{},m\n",
                      a.reflection->coefficient, a.reflection->incident, a.reflection->reflected);
@@ -292,6 +444,16 @@ Plot gauge_plot(const FlumeAnalysis& a, const GaugeWaves& g) {
   p.x_label = "t (s)";
   p.y_label = "surface elevation (m)";
   p.series.push_back(curve("sluice", g.eta.t, g.eta.y));
+  if (g.measured) {
+    // The measurement over the run's time span.
+    Series m;
+    for (std::size_t j = 0; j < g.measured->size(); ++j)
+      if (g.measured->t[j] >= g.eta.t.front() && g.measured->t[j] <= g.eta.t.back()) {
+        m.t.push_back(g.measured->t[j]);
+        m.y.push_back(g.measured->y[j]);
+      }
+    if (!m.empty()) p.series.push_back(curve("measured", m.t, m.y));
+  }
   if (a.wave.height > 0.0 && g.window) {
     std::vector<double> t, y;
     for (double s = g.window->t0; s <= g.window->t1 + 1e-9; s += a.wave.period / 40.0) {
@@ -365,6 +527,23 @@ void write_flume_report(const FlumeAnalysis& a, const fs::path& run_dir, const f
                                a.reflection->coefficient, a.reflection->incident, a.reflection->reflected,
                                fmt::join(a.reflection_gauges, ", "), format_window(a.common_window)));
   for (const auto& n : a.notes) html.paragraph("Note: " + n);
+  if (has_measurements(a)) {
+    std::vector<std::vector<std::string>> measured;
+    for (const auto& g : a.gauges)
+      if (g.measured_harmonics)
+        measured.push_back({g.name, fmt::format("{:.3f}", g.x), format_window(g.window),
+                            num(g.harmonics->amplitude[0], "{:.5f}"), num(g.measured_harmonics->amplitude[0], "{:.5f}"),
+                            num(measured_error_percent(g), "{:+.1f}%"), num(measured_phase_lag(g), "{:+.1f}"),
+                            num(g.harmonics->amplitude[1], "{:.5f}"), num(g.measured_harmonics->amplitude[1], "{:.5f}")});
+    html.heading("Against the measurements");
+    html.paragraph(fmt::format("Each gauge's harmonics fitted over the same window to the simulation and to the column "
+                               "of the same name in {} (its still level removed). Phase lag: how far the simulated "
+                               "first harmonic runs behind the measured one.",
+                               a.wave.record));
+    html.table({"gauge", "x (m)", "window (s)", "a1 sluice (m)", "a1 measured (m)", "a1 error", "phase lag (deg)",
+                "a2 sluice (m)", "a2 measured (m)"},
+               measured);
+  }
   std::vector<std::vector<std::string>> rows;
   for (const auto& g : a.gauges) {
     const bool h = g.harmonics.has_value();
@@ -372,7 +551,8 @@ void write_flume_report(const FlumeAnalysis& a, const fs::path& run_dir, const f
                     format_window(g.window), g.zero_crossing ? num(g.zero_crossing->mean_height) : "-",
                     g.zero_crossing ? num(g.zero_crossing->mean_period) : "-",
                     h ? num(2.0 * g.harmonics->amplitude[0]) : "-", num(height_error_percent(a, g), "{:+.1f}%"),
-                    h ? num(wrapped_degrees(g.harmonics->phase[0] - g.theory_phase), "{:+.0f}") : "-",
+                    h && w.record.empty() ? num(wrapped_degrees(g.harmonics->phase[0] - g.theory_phase), "{:+.0f}")
+                                          : "-",
                     h ? num(g.harmonics->amplitude[1], "{:.5f}") : "-", g.note});
   }
   html.heading("Gauges");
@@ -387,7 +567,8 @@ void write_flume_report(const FlumeAnalysis& a, const fs::path& run_dir, const f
   for (const auto& g : a.gauges) {
     const std::string svg = svg_plot(gauge_plot(a, g));
     write_file_atomic(out_dir / ("eta_" + g.name + ".svg"), svg);
-    html.figure(svg, fmt::format("Gauge {}: the surface elevation, with linear theory over the steady window.", g.name));
+    html.figure(svg, fmt::format("Gauge {}: the surface elevation, {} over the steady window.", g.name,
+                                 g.measured ? "with the measurement" : "with linear theory"));
   }
   write_file_atomic(out_dir / "report.html", html.html());
 }

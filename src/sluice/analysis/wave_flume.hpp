@@ -1,6 +1,7 @@
-// `sluice analyze` on a wave flume: a run whose case has a wave maker (law = "wave") or whose user
-// names the wave (--period): the regular waves at each gauge against linear theory, the decay of the
-// first harmonic along the flume and the reflection, as a table, CSVs, SVG plots and an HTML page.
+// `sluice analyze` on a wave flume: a run whose case has a wave maker (law = "wave"), a paddle driven by
+// a laboratory record that also holds the gauges' measurements, or whose user names the wave
+// (--period): the regular waves at each gauge against linear theory or the measurement, the decay of
+// the first harmonic along the flume and the reflection, as a table, CSVs, SVG plots and an HTML page.
 #pragma once
 
 #include <filesystem>
@@ -34,6 +35,10 @@ struct FlumeWave {
   double start = 0.0, ramp_time = 0.0;  // when the maker starts, and how long it ramps up
   double maker_x = 0.0;                 // the paddle's face at rest (a flap: its hinge)
   int order = 1;
+  // A paddle driven by a record (law = "file"): the file, and the run's time minus the file's. Its
+  // period, start and ramp are read from the record when the options do not give them.
+  std::string record;
+  double record_time_offset = 0.0;
 };
 
 struct GaugeWaves {
@@ -45,6 +50,10 @@ struct GaugeWaves {
   std::optional<Harmonics> harmonics;  // first and second
   double theory_phase = 0.0;       // of the first harmonic, linear theory from the maker's motion
   std::string note;                // why a measurement is missing
+  // The laboratory's series for this gauge (the record's column named as the gauge, "WP_1" or
+  // "WP_1 [m]"), on the run's time, its still level removed; and its harmonics over the same window.
+  std::optional<Series> measured;
+  std::optional<Harmonics> measured_harmonics;
 };
 
 struct FlumeAnalysis {
@@ -60,11 +69,14 @@ struct FlumeAnalysis {
   std::vector<std::string> notes;
 };
 
-// Whether `sluice analyze` should treat the run as a wave flume: the case has a wave maker.
+// Whether `sluice analyze` should treat the run as a wave flume: the case has a wave maker, or a paddle
+// driven by a record that holds a column named as one of its gauges.
 bool has_wave_maker(const Case& c);
 
 // Throws AnalysisError when the wave cannot be known (no wave maker and no period) or the run has no
-// gauges.
+// gauges. With a recorded paddle and a damping zone (a beach), each gauge's window closes before the
+// zone's start can reflect the steady waves back to it: the laboratory's beach reflects, the zone
+// stands for its absorption alone.
 FlumeAnalysis analyze_flume(const std::filesystem::path& run_dir, const Case& c, const FlumeOptions& options);
 
 // The table printed on the terminal.

@@ -5,8 +5,11 @@
 #include <cmath>
 #include <filesystem>
 #include <numbers>
+#include <optional>
+#include <string_view>
 
 #include "sluice/case/case_error.hpp"
+#include "sluice/case/reference_files.hpp"
 #include "sluice/case/value_text.hpp"
 
 namespace sluice {
@@ -22,15 +25,23 @@ void load_motion_files(Case& c, const std::string& source) {
       const std::string written = m.file;  // as the case file says it, for messages
       const fs::path given(m.file);
       const fs::path path = given.is_absolute() || c.mesh_directory.empty() ? given : fs::path(c.mesh_directory) / given;
+      // A relative name may be a record built into the binary (data/validation/<file>): first for a
+      // built-in case, after the case file's directory for a case file.
+      std::error_code ec;
+      std::optional<std::string_view> built_in;
+      if (given.is_relative() && (c.mesh_directory.empty() || !fs::exists(path, ec)))
+        built_in = reference_file_text(given.lexically_normal().generic_string());
       try {
         m.series = std::make_shared<const MotionSeries>(
-            read_motion_csv(path, m.time_column, m.column, m.scale, m.time_offset));
+            built_in ? parse_motion_csv(std::string(*built_in), written, m.time_column, m.column, m.scale, m.time_offset)
+                     : read_motion_csv(path, m.time_column, m.column, m.scale, m.time_offset));
       } catch (const MotionError& e) {
         throw CaseError(fmt::format("{}: {}.file = {}: {}", source, key, quote(written), e.what()));
       }
-      std::error_code ec;
-      const fs::path absolute = fs::absolute(path, ec).lexically_normal();
-      if (!ec) m.file = absolute.string();
+      if (!built_in) {
+        const fs::path absolute = fs::absolute(path, ec).lexically_normal();
+        if (!ec) m.file = absolute.string();
+      }
       const double last = m.series->times.back();
       if (m.past_end == PastFileEnd::error && c.end_time > last)
         throw CaseError(fmt::format("{}: {}.file = {}: its last time is t = {} s (file time + time_offset), before "
