@@ -3,6 +3,7 @@
 // reader's errors, and the rigid motion of a body's points.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -12,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "sluice/case/builtin_cases.hpp"
 #include "sluice/case/load.hpp"
 #include "sluice/case/motions.hpp"
 #include "sluice/case/rigid_motion.hpp"
@@ -483,6 +485,55 @@ period = 2.0
     expect_contains(e.what(), "wall[1].translation.file = \"paddle.csv\":");
     expect_contains(e.what(), "paddle.csv: no such file");
   }
+  std::filesystem::remove_all(dir);
+}
+
+// A record built into the binary (data/validation/) drives a wall by its name alone: the built-in
+// NTNU flume's flap follows the laboratory's paddle from t = 1 s, and a case file naming the record
+// finds it when there is no file of that name beside it.
+TEST(WallMotionFromCase, ABuiltInRecordIsFoundByName) {
+  const auto ntnu = load_builtin_case("ntnu_flume");
+  ASSERT_TRUE(ntnu);
+  const MotionLawSpec& flap = ntnu->walls.at(1).rotation;
+  ASSERT_EQ(flap.law, MotionLawType::file);
+  ASSERT_TRUE(flap.series);
+  EXPECT_EQ(flap.file, "ntnu_flume2025_1062.csv");
+  // 100 Hz from 4 s before the paddle moves to 45 s after: 4,900 samples.
+  EXPECT_EQ(flap.series->times.size(), 4900u);
+  EXPECT_NEAR(flap.series->times.front(), 14.98 - 17.98, 1e-12);
+  // Still before t = 1 s, then up to 0.014 m / 1.5 m = 0.53 degrees.
+  double before = 0.0, after = 0.0;
+  for (std::size_t j = 0; j < flap.series->times.size(); ++j)
+    (flap.series->times[j] < 0.9 ? before : after) =
+        std::max(flap.series->times[j] < 0.9 ? before : after, std::abs(flap.series->values[j]));
+  EXPECT_LT(before, 0.01);
+  EXPECT_NEAR(after, 0.0140 * 38.197, 0.01);
+
+  const auto dir = std::filesystem::temp_directory_path() / "sluice_test_builtin_record";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "case.toml") << R"([tank]
+width = 2.0
+height = 1.0
+[time]
+end = 2.0
+[[water]]
+min = [0.2, 0.0]
+max = [2.0, 0.5]
+[[wall]]
+min = [0.1, 0.0]
+max = [0.2, 0.8]
+[wall.translation]
+law = "file"
+direction = [1.0, 0.0]
+file = "ntnu_flume2025_1102.csv"
+time_column = "Time [s]"
+column = "WM_Position [m]"
+time_offset = -20.8
+)";
+  const Case c = load_case_file(dir / "case.toml");
+  ASSERT_TRUE(c.walls[0].translation.series);
+  EXPECT_NEAR(c.walls[0].translation.series->times.front(), 17.8 - 20.8, 1e-12);
   std::filesystem::remove_all(dir);
 }
 

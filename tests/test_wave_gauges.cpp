@@ -2,7 +2,7 @@
 // harmonics' amplitudes and phases, incident and reflected waves from two and three gauges, the decay
 // along the flume, the steady window; and `analyze_flume` on a run directory of synthetic gauge series
 // (an incident wave with a 10 % reflection), which must find the target's height, no phase lag and the
-// reflection.
+// reflection; and a paddle driven by a record holding the gauges' measurements, compared with them.
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
@@ -12,6 +12,9 @@
 #include <complex>
 #include <functional>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <memory>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -191,5 +194,97 @@ TEST(WaveFlume, AnalysisOfSyntheticGaugesFindsTheWaveAndItsReflection) {
   EXPECT_THROW(analyze_flume(dir, no_maker, none), AnalysisError);
   none.period = 1.2;
   EXPECT_NO_THROW(analyze_flume(dir, no_maker, none));
+  fs::remove_all(dir);
+}
+
+// A flap driven by a laboratory record that also holds the gauges' measurements (as the NTNU flume's
+// files do): the period, start and ramp are read from the paddle's column, each gauge is compared with
+// the column of its name, and the windows close before the beach (a damping zone) can reflect the
+// steady waves back. The simulated series are the measured ones 5 % lower and 5 degrees later.
+TEST(WaveFlume, ARecordedPaddleIsComparedWithTheMeasurements) {
+  const double period = 1.158, omega = 2.0 * pi / period, offset = -10.0, start = 1.0;
+  const double k = waves::wavenumber(omega, 1.0), lag = 5.0 * pi / 180.0;
+  const fs::path dir = fs::temp_directory_path() / fmt::format("sluice_recorded_flume_{}", getpid());
+  fs::remove_all(dir);
+  fs::create_directories(dir / "probes");
+  const std::vector<std::string> names = {"WP_1", "WP_2", "WP_far"};
+  const std::vector<double> gauge_x = {3.2, 5.15, 10.5};
+  auto paddle = [&](double t) {  // the run's time; a linear ramp over five periods
+    const double tau = t - start;
+    return tau <= 0.0 ? 0.0 : 0.01 * std::min(1.0, tau / (5.0 * period)) * std::sin(omega * tau);
+  };
+  auto measured = [&](double t, double x) { return 0.02 * std::cos(omega * t - k * (x - 0.2)); };
+  std::string record = "# a synthetic record\nTime [s],WM [m],WP_1 [m],WP_2 [m]\n";
+  MotionSeries series;
+  for (int j = 0; j <= 4000; ++j) {
+    const double t_file = 10.0 + 0.01 * j, t = t_file + offset;
+    record += fmt::format("{},{},{},{}\n", t_file, paddle(t), measured(t, 3.2), measured(t, 5.15));
+    series.times.push_back(t);
+    series.values.push_back(paddle(t) * 38.2);
+  }
+  write_file_atomic(dir / "record.csv", record);
+  for (std::size_t m = 0; m < names.size(); ++m) {
+    std::string csv = "time,height\n";
+    for (int j = 0; j <= 3000; ++j) {
+      const double t = 0.01 * j;
+      csv += fmt::format("{},{}\n", t, 1.0 + 0.95 * 0.02 * std::cos(omega * t - k * (gauge_x[m] - 0.2) - lag));
+    }
+    write_file_atomic(dir / "probes" / (names[m] + ".csv"), csv);
+  }
+  Case c;
+  c.tank_width = 13.83;
+  c.tank_height = 1.3;
+  c.gravity = {0.0, -9.81, 0.0};
+  Region flap;
+  flap.name = "flap";
+  flap.min = {0.12, 0.1, 0.0};
+  flap.max = {0.2, 1.2, 0.0};
+  flap.rotation.law = MotionLawType::file;
+  flap.rotation.centre = {0.2, 0.1, 0.0};
+  flap.rotation.file = (dir / "record.csv").string();
+  flap.rotation.time_column = "Time [s]";
+  flap.rotation.column = "WM [m]";
+  flap.rotation.time_offset = offset;
+  flap.rotation.series = std::make_shared<const MotionSeries>(series);
+  c.walls.push_back(flap);
+  for (std::size_t m = 0; m < names.size(); ++m) {
+    Probe p;
+    p.name = names[m];
+    p.type = ProbeType::gauge;
+    p.point = {gauge_x[m], 0.0, 0.0};
+    c.probes.push_back(p);
+  }
+  c.damping_start = {11.1, 0.0, 0.0};
+  c.damping_length = 2.73;
+  ASSERT_TRUE(has_wave_maker(c));
+  const FlumeAnalysis a = analyze_flume(dir, c, {});
+  EXPECT_NEAR(a.wave.period, period, 1e-3);
+  // The first 2 % excursion of a five-period linear ramp comes 0.14 periods after the start.
+  EXPECT_GE(a.wave.start, start);
+  EXPECT_LT(a.wave.start, start + 0.2 * period);
+  EXPECT_NEAR(a.wave.maker_x, 0.2, 1e-15);
+  ASSERT_EQ(a.gauges.size(), 3u);
+  for (std::size_t m = 0; m < 2; ++m) {
+    const GaugeWaves& g = a.gauges[m];
+    ASSERT_TRUE(g.measured_harmonics) << g.name << ": " << g.note;
+    // Until the steady waves' reflection from the beach's start (10.9 m from the flap) could return.
+    const double back = a.wave.start + a.wave.ramp_time + (2.0 * 10.9 - g.distance) / a.wave.group_velocity;
+    EXPECT_LE(g.window->t1, back - period + 1e-9) << g.name;
+    EXPECT_GE(g.window->periods(period), 2.0 - 1e-9) << g.name;
+    EXPECT_NEAR(g.harmonics->amplitude[0] / g.measured_harmonics->amplitude[0], 0.95, 2e-3) << g.name;
+    const double behind = std::remainder(g.harmonics->phase[0] - g.measured_harmonics->phase[0], 2.0 * pi);
+    EXPECT_NEAR(behind * 180.0 / pi, 5.0, 0.2) << g.name;
+  }
+  // 10.3 m from the flap, the steady waves cannot arrive before the beach's reflection of them.
+  EXPECT_FALSE(a.gauges[2].window);
+  EXPECT_FALSE(a.gauges[2].measured_harmonics);
+  const std::string table = flume_table(a);
+  EXPECT_NE(table.find("against the measurements"), std::string::npos) << table;
+  EXPECT_NE(table.find("-5.0%"), std::string::npos) << table;
+  write_flume_report(a, dir, dir / "analysis");
+  std::ifstream summary(dir / "analysis" / "summary.csv");
+  const std::string text((std::istreambuf_iterator<char>(summary)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("largest first-harmonic error against the measurements,5."), std::string::npos) << text;
+  EXPECT_TRUE(fs::exists(dir / "analysis" / "eta_WP_1.svg"));
   fs::remove_all(dir);
 }

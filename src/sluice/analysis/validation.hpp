@@ -87,12 +87,33 @@ struct ValidationBounds {
   double buchner_plateau_rms;   // Buchner probe, RMS dp* for 3.5 <= t* <= 5.5 (0: reported only)
   double buchner_impact;      // |impact time - data's| in t*
   double spheric2_impact;     // |P1 impact time - data's| in s
+  double wave_height_percent;   // wave_flume: |first-harmonic height - target| at 2, 4, 6 wavelengths, %
+  double wave_period_percent;   // wave_flume: |zero-crossing period - target| at those gauges, %
+  double wave_reflection;       // wave_flume: reflection coefficient Kr
+  double ntnu_amplitude_percent;  // NTNU flume: |first-harmonic amplitude - measured| at each probe, %
+  double ntnu_phase_degrees;      // NTNU flume: |first-harmonic phase - measured| at each probe, degrees
 };
 ValidationBounds full_bounds();
 ValidationBounds quick_bounds();
 
 // The column width (or, for Buchner, height) over dx at which --quick runs each case.
 double quick_resolution(const std::string& case_name);
+
+// The wave cases (analysis/wave_validation.cpp), run by `sluice validate --waves`: wave_flume against
+// linear theory, and the NTNU flume's runs 1021, 1062 and 1102 against the laboratory's probes.
+const std::vector<std::string>& wave_validation_cases();
+bool is_wave_case(const std::string& case_name);
+// The built-in case a validation case runs, and the overrides that make it that case (an NTNU run's
+// record of the paddle).
+struct ValidationCaseSource {
+  std::string builtin;
+  std::vector<std::string> sets;
+};
+ValidationCaseSource validation_case_source(const std::string& case_name);
+// --quick's overrides of a wave case: a coarser dx and a shorter run.
+std::vector<std::string> quick_wave_sets(const std::string& case_name);
+// Throws AnalysisError when a wave case is no longer the one its theory or data are for.
+void check_wave_case(const std::string& case_name, const Case& c);
 
 // Throws AnalysisError when the case is not the one its validation data are for (its column, tank or
 // gravity): checked before it runs, and again by its evaluation.
@@ -105,6 +126,9 @@ ValidationResult evaluate_martin_moyce(const Case& c, const std::filesystem::pat
 ValidationResult evaluate_koshizuka_oka(const Case& c, const std::filesystem::path& run_dir, const ValidationBounds& b);
 ValidationResult evaluate_buchner(const Case& c, const std::filesystem::path& run_dir, const ValidationBounds& b);
 ValidationResult evaluate_spheric2(const Case& c, const std::filesystem::path& run_dir, const ValidationBounds& b);
+ValidationResult evaluate_wave_flume(const Case& c, const std::filesystem::path& run_dir, const ValidationBounds& b);
+ValidationResult evaluate_ntnu_flume(const std::string& case_name, const Case& c, const std::filesystem::path& run_dir,
+                                     const ValidationBounds& b);
 
 // A probe's series from a finished run (run_dir/probes/<probe>.csv): time and the named column.
 Series probe_series(const std::filesystem::path& run_dir, const std::string& probe, const std::string& column);
@@ -120,7 +144,7 @@ inline constexpr double impact_pressure_level = 0.25;
 struct ValidationVariant {
   std::string label;              // names its column and its directory, variants/<label>/
   std::vector<std::string> sets;  // key=value overrides, applied after the main run's
-  bool two_d_only = false;        // runs the 2D cases only (the dynamic walls' column)
+  bool two_d_only = false;        // runs the 2D dam breaks only (the dynamic walls' column), not the wave cases
 };
 
 // The column validate adds unless told not to: dynamic walls at h = 1.3 dx without shifting or the
@@ -142,6 +166,7 @@ struct ValidationOptions {
   RunOptions::Progress progress = RunOptions::Progress::none;
   std::vector<std::string> cases;          // empty: the 2D cases, and with `three_d` the 3D one
   bool three_d = false;                    // also the 3D case (spheric2)
+  bool waves = false;                      // the wave cases instead of the dam breaks (with `cases` empty)
   std::vector<std::string> sets;           // key=value overrides applied to every case (after --quick's dx)
   std::vector<ValidationVariant> variants;  // every case run again with each, after `sets` (distinct labels)
   std::string command_line;                // recorded in the report
@@ -158,7 +183,7 @@ struct ValidationReport {
   [[nodiscard]] bool passed() const;
 };
 
-// The case names validate can run, in report order: the 2D cases, then the 3D one.
+// The case names validate can run, in report order: the 2D cases, the 3D one, then the wave cases.
 const std::vector<std::string>& validation_case_names();
 // Those that run by default (2D); --3d adds spheric2.
 const std::vector<std::string>& default_validation_cases();

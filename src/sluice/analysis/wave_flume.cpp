@@ -437,7 +437,9 @@ std::string summary_csv(const FlumeAnalysis& a) {
   return s;
 }
 
-Plot gauge_plot(const FlumeAnalysis& a, const GaugeWaves& g) {
+}  // namespace
+
+Plot flume_gauge_plot(const FlumeAnalysis& a, const GaugeWaves& g) {
   Plot p;
   p.title = fmt::format("Gauge {} at x = {:.3g} m ({:.2f} wavelengths from the wave maker)", g.name, g.x,
                         g.distance / a.wave.wavelength);
@@ -469,7 +471,7 @@ Plot gauge_plot(const FlumeAnalysis& a, const GaugeWaves& g) {
   return p;
 }
 
-Plot harmonics_plot(const FlumeAnalysis& a) {
+Plot flume_harmonics_plot(const FlumeAnalysis& a) {
   Plot p;
   p.title = "First and second harmonics along the flume";
   p.x_label = "distance from the wave maker (wavelengths)";
@@ -503,7 +505,6 @@ Plot harmonics_plot(const FlumeAnalysis& a) {
   return p;
 }
 
-}  // namespace
 
 void write_flume_report(const FlumeAnalysis& a, const fs::path& run_dir, const fs::path& out_dir) {
   create_directories_or_throw(out_dir);
@@ -560,12 +561,12 @@ void write_flume_report(const FlumeAnalysis& a, const fs::path& run_dir, const f
               "a2 (m)", "note"},
              rows);
   if (std::any_of(a.gauges.begin(), a.gauges.end(), [](const auto& g) { return g.harmonics.has_value(); })) {
-    const std::string svg = svg_plot(harmonics_plot(a));
+    const std::string svg = svg_plot(flume_harmonics_plot(a));
     write_file_atomic(out_dir / "harmonics.svg", svg);
     html.figure(svg, "The first and second harmonics' amplitudes at each gauge with steady waves.");
   }
   for (const auto& g : a.gauges) {
-    const std::string svg = svg_plot(gauge_plot(a, g));
+    const std::string svg = svg_plot(flume_gauge_plot(a, g));
     write_file_atomic(out_dir / ("eta_" + g.name + ".svg"), svg);
     html.figure(svg, fmt::format("Gauge {}: the surface elevation, {} over the steady window.", g.name,
                                  g.measured ? "with the measurement" : "with linear theory"));

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "sluice/analysis/series.hpp"
+#include "sluice/analysis/svg_plot.hpp"
 #include "sluice/analysis/wave_gauges.hpp"
 #include "sluice/case/case.hpp"
 
@@ -78,6 +79,11 @@ bool has_wave_maker(const Case& c);
 // zone's start can reflect the steady waves back to it: the laboratory's beach reflects, the zone
 // stands for its absorption alone.
 FlumeAnalysis analyze_flume(const std::filesystem::path& run_dir, const Case& c, const FlumeOptions& options);
+
+// Gauge g's series over the theory (or the measurement), its window shaded; the first and second
+// harmonics along the flume.
+Plot flume_gauge_plot(const FlumeAnalysis& a, const GaugeWaves& g);
+Plot flume_harmonics_plot(const FlumeAnalysis& a);
 
 // The table printed on the terminal.
 std::string flume_table(const FlumeAnalysis& a);

@@ -170,7 +170,7 @@ int convergence(const ConvergenceArgs& a) {
 }
 
 struct ValidateArgs {
-  bool quick = false, quiet = false, three_d = false, no_dynamic = false;
+  bool quick = false, quiet = false, three_d = false, no_dynamic = false, waves = false;
   std::string output;
   std::vector<std::string> cases, sets, compare;
   int threads = 0;
@@ -181,6 +181,7 @@ int validate(const ValidateArgs& a) {
   o.quick = a.quick;
   o.cases = a.cases;
   o.three_d = a.three_d;
+  o.waves = a.waves;
   o.sets = a.sets;
   for (const auto& text : a.compare) {
     try {
@@ -202,9 +203,12 @@ int validate(const ValidateArgs& a) {
       throw BadInput(fmt::format("--case {}: no validation case of that name; expected one of: {}", name,
                                  fmt::join(analysis::validation_case_names(), ", ")));
   o.threads = threads_or_all(a.threads);
-  o.output_dir = a.output.empty() ? fs::path("out") / (a.quick ? "validation_quick" : "validation") : fs::path(a.output);
+  o.output_dir = a.output.empty() ? fs::path("out") / fmt::format("validation{}{}", a.waves ? "_waves" : "",
+                                                                  a.quick ? "_quick" : "")
+                                  : fs::path(a.output);
   o.progress = a.quiet ? RunOptions::Progress::none : RunOptions::Progress::lines;
   o.command_line = std::string("sluice validate") + (a.quick ? " --quick" : "") + (a.three_d ? " --3d" : "") +
+                   (a.waves ? " --waves" : "") +
                    (a.no_dynamic ? " --no-dynamic" : "");
   for (const auto& name : a.cases) o.command_line += " --case " + name;
   for (const auto& set : a.sets) o.command_line += " --set " + set;
@@ -285,8 +289,12 @@ Command add_validate_command(CLI::App& app) {
   cmd->add_flag("--3d", args->three_d,
                 "Also run the 3D case, spheric2 (SPHERIC test 2 at dx = 0.02 m: about 18 minutes on two cores; with "
                 "--quick dx = 0.05 m, a few minutes)");
+  cmd->add_flag("--waves", args->waves,
+                "Run the wave cases instead: wave_flume against linear theory and the NTNU flume's runs 1021, 1062 and "
+                "1102 against the laboratory's probes (about 80 minutes on two cores; with --quick a few minutes)");
   cmd->add_option("--case", args->cases,
-                  "Run only this validation case (repeatable): martin_moyce, koshizuka_oka, buchner, spheric2");
+                  "Run only this validation case (repeatable): martin_moyce, koshizuka_oka, buchner, spheric2, "
+                  "wave_flume, ntnu_1021, ntnu_1062, ntnu_1102");
   cmd->add_option("--set", args->sets,
                   "Override a case key in every validation case, e.g. --set physics.wall_boundary=adami (repeatable; "
                   "applied after --quick's resolution)")
