@@ -791,6 +791,89 @@ TEST(CaseValidation, APistonWaveMakerAndADampingZone) {
   expect_contains(override_error(three, "wall[0].translation.order=3"), {"wall[0].translation.order"});
 }
 
+// spectrum = "jonswap": its keys read with their defaults (gamma 3.3, 200 components, seed 1) and
+// round-tripped by the template; a regular wave's height and period refused beside it and its keys
+// beside a regular wave; each bad value refused, naming the key, the value and what was expected:
+// out of range, second order, no ramp, and a spectrum the particles cannot carry.
+TEST(CaseValidation, AJonswapWaveMaker) {
+  const std::string flume = "[domain]\ndx = 0.025\n[tank]\nwidth = 6.0\nheight = 0.8\n[[water]]\nmin = [0.12, 0.0]\n"
+                            "max = [6.0, 0.4]\n";
+  const std::string wall = "[[wall]]\nname = \"piston\"\nmin = [0.04, 0.0]\nmax = [0.12, 0.7]\n[wall.translation]\n"
+                           "law = \"wave\"\ndirection = [1.0, 0.0]\ndepth = 0.4\nramp = 2\n";
+  const std::string piston = flume + wall + "spectrum = \"jonswap\"\nsignificant_height = 0.05\npeak_period = 1.2\n";
+  const Case c = parse(piston);
+  const MotionLawSpec& m = c.walls[0].translation;
+  EXPECT_EQ(m.spectrum, WaveSpectrum::jonswap);
+  EXPECT_EQ(m.significant_height, 0.05);
+  EXPECT_EQ(m.peak_period, 1.2);
+  EXPECT_EQ(m.gamma, 3.3);
+  EXPECT_EQ(m.components, 200);
+  EXPECT_EQ(m.seed, 1);
+  EXPECT_EQ(parse(flume + wall + "height = 0.08\nperiod = 1.2\n").walls[0].translation.spectrum, WaveSpectrum::regular);
+  const Case chosen = parse(piston + "gamma = 1.0\ncomponents = 64\nseed = 12345\ngain = 0.9\n");
+  EXPECT_EQ(chosen.walls[0].translation.gamma, 1.0);
+  EXPECT_EQ(chosen.walls[0].translation.components, 64);
+  EXPECT_EQ(chosen.walls[0].translation.seed, 12345);
+  const std::string text = case_template(chosen);
+  EXPECT_NE(text.find("spectrum = \"jonswap\""), std::string::npos) << text;
+  EXPECT_EQ(text.find("\nheight = ", text.rfind("[wall.translation]")), std::string::npos) << text;
+  expect_cases_equal(parse_case(text, "template"), chosen);
+
+  // Both kinds of keys at once.
+  expect_contains(parse_error(piston + "height = 0.08\n"),
+                  {"gives 'height', which a wave law with spectrum = \"jonswap\" does not use"});
+  expect_contains(parse_error(piston + "period = 1.2\n"),
+                  {"gives 'period', which a wave law with spectrum = \"jonswap\" does not use"});
+  expect_contains(parse_error(flume + wall + "height = 0.08\nperiod = 1.2\nsignificant_height = 0.05\n"),
+                  {"gives 'significant_height', which a wave law with spectrum = \"regular\" does not use"});
+  expect_contains(parse_error(flume + wall + "spectrum = \"jonswap\"\npeak_period = 1.2\n"),
+                  {"has no 'significant_height'"});
+  expect_contains(parse_error(flume + wall + "spectrum = \"jonswap\"\nsignificant_height = 0.05\n"),
+                  {"has no 'peak_period'"});
+  expect_contains(parse_error(flume + wall + "spectrum = \"pierson\"\nsignificant_height = 0.05\npeak_period = 1.2\n"),
+                  {"spectrum", "pierson", "jonswap"});
+  // Values out of range.
+  expect_contains(parse_error(piston + "gamma = 0.5\n"), {"gamma = 0.5: out of range"});
+  expect_contains(parse_error(piston + "gamma = 50\n"), {"gamma = 50: out of range"});
+  expect_contains(parse_error(piston + "components = 0\n"), {"components = 0: out of range"});
+  expect_contains(parse_error(piston + "components = 1000000\n"), {"components = 1000000: out of range"});
+  expect_contains(parse_error(piston + "seed = -1\n"), {"seed = -1: out of range"});
+  expect_contains(parse_error(flume + wall + "spectrum = \"jonswap\"\nsignificant_height = 0.0\npeak_period = 1.2\n"),
+                  {"significant_height = 0.0: out of range"});
+  expect_contains(parse_error(flume + wall + "spectrum = \"jonswap\"\nsignificant_height = 0.05\npeak_period = -1.0\n"),
+                  {"peak_period = -1.0: out of range; expected a number >= 1e-06 (s)"});
+  // Second order, no ramp.
+  expect_contains(parse_error(piston + "order = 2\n"),
+                  {"wall[0].translation.order = 2: second-order generation of irregular (JONSWAP) waves is not "
+                   "implemented; expected order = 1"});
+  const std::string unramped = flume + "[[wall]]\nname = \"piston\"\nmin = [0.04, 0.0]\nmax = [0.12, 0.7]\n"
+                               "[wall.translation]\nlaw = \"wave\"\ndirection = [1.0, 0.0]\ndepth = 0.4\n"
+                               "spectrum = \"jonswap\"\nsignificant_height = 0.05\npeak_period = 1.2\n";
+  expect_contains(parse_error(unramped), {"wall[0].translation.ramp = 0 peak periods", "expected a ramp of at least 1 "
+                                                                                         "peak period"});
+  EXPECT_NO_THROW(parse(unramped + "ramp = 1\n"));
+  // A peak period of 0.25 s (Lp = 0.098 m) on dx = 0.025 m (4h = 0.2 m): almost nothing the particles
+  // can carry; at dx = 0.005 m (4h = 0.04 m) it is made.
+  expect_contains(parse_error(flume + wall + "spectrum = \"jonswap\"\nsignificant_height = 0.01\npeak_period = 0.25\n"),
+                  {"wall[0].translation: the JONSWAP spectrum (significant_height = 0.01 m, peak_period = 0.25 s) has "
+                   "little energy in the flume's range: 0.3 % of it at wavelengths of at least 4h = 0.2 m",
+                   "peak wavelength 0.09758 m", "expected at least half of it there"});
+  Case fine = c;
+  apply_override(fine, "domain.dx=0.005");
+  EXPECT_NO_THROW(apply_override(fine, "wall[0].translation.peak_period=0.25"));
+  Case coarse = c;
+  expect_contains(override_error(coarse, "wall[0].translation.peak_period=0.25"), {"little energy in the flume's range"});
+  expect_contains(override_error(coarse, "wall[0].translation.ramp=0.5"), {"wall[0].translation.ramp = 0.5 peak periods"});
+  // A flap: its hinge checked as a regular flap's, and the same refusal of second order.
+  const std::string flap = flume + "[[wall]]\nname = \"flap\"\nmin = [0.04, 0.0]\nmax = [0.12, 0.7]\n[wall.rotation]\n"
+                                   "law = \"wave\"\ndepth = 0.4\nramp = 2\nspectrum = \"jonswap\"\n"
+                                   "significant_height = 0.05\npeak_period = 1.2\n";
+  EXPECT_EQ(parse(flap + "centre = [0.12, 0.1]\n").walls[0].rotation.spectrum, WaveSpectrum::jonswap);
+  expect_contains(parse_error(flap + "centre = [0.12, 0.5]\n"), {"a flap's hinge 0.5 m above the floor is not in the water"});
+  expect_contains(parse_error(flap + "centre = [0.12, 0.1]\norder = 2\n"),
+                  {"wall[0].rotation.order = 2: second-order generation of irregular (JONSWAP) waves"});
+}
+
 TEST(CaseValidation, TheTanksMotionTables) {
   const std::string tank = "[tank]\nwidth = 1.0\nheight = 1.0\n" + minimal_water;
   const std::string roll = "[tank.rotation]\nlaw = \"sinusoidal\"\ncentre = [0.5, 0.0]\namplitude = 2.0\nperiod = 1.5\n";

@@ -208,6 +208,184 @@ TEST(WaveTheory, AFlapsLawIsTheAngleOfItsStrokeAtTheSurface) {
   EXPECT_NEAR(motion.rotation->largest_magnitude(10.0), std::atan(half_stroke / 0.3), 1e-15);
 }
 
+// A JONSWAP sea discretised: its m0 gives 4 sqrt(m0) = Hs; the continuous shape and the components
+// peak at fp; amplitudes follow a = sqrt(2 S(f) df) in equal bins of fp/M from fp/2 to about 3 fp; the
+// shape's integral is the Pierson-Moskowitz one for gamma = 1 and DNV's normalisation above it; the
+// phases are the raw mt19937_64 draws of the seed, the same on every platform.
+TEST(WaveTheory, AJonswapSeaCarriesItsSignificantHeightAndPeaksAtTheSpectralPeak) {
+  const double hs = 0.06, tp = 1.2, fp = 1.0 / tp;
+  for (const double gamma : {1.0, 3.3, 7.0}) {
+    const waves::IrregularSea sea = waves::jonswap_sea(hs, tp, gamma, 200, 1);
+    ASSERT_EQ(sea.components.size(), 200u);
+    EXPECT_NEAR(4.0 * std::sqrt(waves::zeroth_moment(sea)), hs, 1e-6 * hs) << "gamma " << gamma;
+    EXPECT_DOUBLE_EQ(sea.df, fp / 80.0);
+    EXPECT_DOUBLE_EQ(sea.components.front().frequency, 0.5 * fp);
+    EXPECT_DOUBLE_EQ(sea.components.back().frequency, 239.0 * fp / 80.0);
+    std::size_t largest = 0;
+    for (std::size_t n = 0; n < sea.components.size(); ++n) {
+      if (sea.components[n].amplitude > sea.components[largest].amplitude) largest = n;
+      if (n > 0) {
+        EXPECT_NEAR(sea.components[n].frequency - sea.components[n - 1].frequency, sea.df, 1e-12);
+      }
+      EXPECT_GE(sea.components[n].phase, 0.0);
+      EXPECT_LT(sea.components[n].phase, 2.0 * std::numbers::pi);
+    }
+    EXPECT_DOUBLE_EQ(sea.components[largest].frequency, fp) << "gamma " << gamma;
+    // a^2 is proportional to S(f): the ratio of two components' is the shape's.
+    const auto& c = sea.components;
+    EXPECT_NEAR(c[10].amplitude * c[10].amplitude / (c[120].amplitude * c[120].amplitude),
+                waves::jonswap_shape(c[10].frequency, fp, gamma) / waves::jonswap_shape(c[120].frequency, fp, gamma), 1e-9);
+    // The continuous shape's maximum, sampled every 1e-5 fp.
+    double best_f = 0.0, best = 0.0;
+    for (int i = 0; i <= 150000; ++i) {
+      const double f = fp * (0.5 + 1e-5 * i);
+      const double s = waves::jonswap_shape(f, fp, gamma);
+      if (s > best) {
+        best = s;
+        best_f = f;
+      }
+    }
+    EXPECT_NEAR(best_f / fp, 1.0, 2e-5) << "gamma " << gamma;
+    // The continuous shape's integral: for gamma = 1 (Pierson-Moskowitz) exactly Tp^4 / 5; the peak
+    // enhancement raises it by 1 / (1 - 0.287 ln gamma), the normalisation DNV-RP-C205 (3.5.5.4) gives,
+    // to its 2 % for gamma up to 7.
+    double integral = 0.0;
+    const double step = 1e-4 * fp;
+    for (double f = 0.2 * fp; f < 100.0 * fp; f += step) integral += waves::jonswap_shape(f + 0.5 * step, fp, gamma) * step;
+    EXPECT_NEAR(integral / (std::pow(tp, 4.0) / 5.0) * (1.0 - 0.287 * std::log(gamma)), 1.0, gamma == 1.0 ? 1e-5 : 0.02)
+        << "gamma " << gamma;
+    // The band holds most of the spectrum: what lies above 3 fp is a tail of f^-5.
+    EXPECT_GT(sea.band_share, 0.98);
+    EXPECT_LT(sea.band_share, 1.0);
+  }
+  // Phases: 2 pi (u >> 11) 2^-53 of the seed's mt19937_64 draws, in frequency order.
+  const waves::IrregularSea one = waves::jonswap_sea(hs, tp, 3.3, 200, 1);
+  EXPECT_DOUBLE_EQ(one.components[0].phase, 2.0 * std::numbers::pi * static_cast<double>(2469588189546311528ULL >> 11) * 0x1p-53);
+  EXPECT_DOUBLE_EQ(one.components[1].phase, 0.85707068669200193);
+  EXPECT_DOUBLE_EQ(one.components[2].phase, 2.8350668542164517);
+  const waves::IrregularSea again = waves::jonswap_sea(hs, tp, 3.3, 200, 1), other = waves::jonswap_sea(hs, tp, 3.3, 200, 2);
+  int same = 0;
+  for (std::size_t n = 0; n < 200; ++n) {
+    EXPECT_EQ(again.components[n].phase, one.components[n].phase);
+    EXPECT_EQ(other.components[n].amplitude, one.components[n].amplitude);
+    same += other.components[n].phase == one.components[n].phase;
+  }
+  EXPECT_EQ(same, 0);
+  // One component is the peak's, carrying all of m0: a = Hs / (2 sqrt 2); two are fp and 2 fp.
+  const waves::IrregularSea single = waves::jonswap_sea(hs, tp, 3.3, 1, 1);
+  ASSERT_EQ(single.components.size(), 1u);
+  EXPECT_DOUBLE_EQ(single.components[0].frequency, fp);
+  EXPECT_NEAR(single.components[0].amplitude, hs / (2.0 * std::sqrt(2.0)), 1e-15);
+  const waves::IrregularSea pair = waves::jonswap_sea(hs, tp, 3.3, 2, 1);
+  EXPECT_DOUBLE_EQ(pair.components[0].frequency, fp);
+  EXPECT_DOUBLE_EQ(pair.components[1].frequency, 2.0 * fp);
+  EXPECT_THROW((void)waves::jonswap_sea(0.0, tp, 3.3, 10, 1), std::invalid_argument);
+  EXPECT_THROW((void)waves::jonswap_sea(hs, tp, 0.5, 10, 1), std::invalid_argument);
+  EXPECT_THROW((void)waves::jonswap_sea(hs, tp, 3.3, 0, 1), std::invalid_argument);
+}
+
+// A JONSWAP piston: the sum of each component's first-order stroke a / (H/S) at its own wavenumber,
+// times gain, ramped over `ramp` peak periods; exact rates and accelerations; it repeats every 1/df
+// after the ramp; a seed gives the same motion, another seed another. One component is the regular
+// maker's wave of the same energy at Tp. A flap turns by -atan(X / (h - hinge)) of its own strokes.
+// The regular law is still SinusoidalLaw to the bit.
+TEST(WaveTheory, AJonswapWaveMakerIsTheSumOfItsComponentsStrokes) {
+  Region paddle;
+  MotionLawSpec& m = paddle.translation;
+  m.law = MotionLawType::wave;
+  m.spectrum = WaveSpectrum::jonswap;
+  m.direction = {1.0, 0.0, 0.0};
+  m.significant_height = 0.06;
+  m.peak_period = 1.2;
+  m.depth = 0.4;
+  m.ramp = 2.0;
+  m.components = 50;
+  m.seed = 7;
+  const waves::IrregularSea sea = waves::jonswap_sea(0.06, 1.2, 3.3, 50, 7);
+  const auto expected = [&](double t, bool flap) {
+    double x = 0.0;
+    for (const auto& c : sea.components) {
+      const double omega = 2.0 * std::numbers::pi * c.frequency, k = waves::wavenumber(omega, 0.4);
+      const double per_stroke = flap ? waves::flap_height_per_stroke(k, 0.4, 0.1) : waves::piston_height_per_stroke(k * 0.4);
+      x += c.amplitude / per_stroke * std::sin(omega * t + c.phase);
+    }
+    return x;
+  };
+  const RigidMotion<2> motion = rigid_motion_of<2>(paddle);
+  const ScalarLaw& law = *motion.translation;
+  double largest = 0.0;
+  for (double t = 2.4; t < 30.0; t += 0.05) {
+    EXPECT_NEAR(law.at(t).value, expected(t, false), 1e-14) << "t = " << t;
+    largest = std::max(largest, std::abs(law.at(t).value));
+  }
+  EXPECT_GT(largest, 0.01);  // a stroke of centimetres: the sum is not empty
+  for (double t : {0.3, 1.1, 2.0, 2.39, 2.41, 5.3, 17.7}) expect_derivatives(law, t, 1.0);
+  EXPECT_EQ(law.at(0.0).value, 0.0);
+  EXPECT_NEAR(law.at(1e-9).value, 0.0, 1e-15);
+  EXPECT_NEAR(law.at(1e-9).rate, 0.0, 1e-9);
+  // M = 20 bins per fp: the waves repeat every 20 Tp = 24 s.
+  EXPECT_NEAR(law.settled_after(), 2.4 + 24.0, 1e-9);
+  for (double t : {3.0, 7.7, 11.2}) EXPECT_NEAR(law.at(t + 24.0).value, law.at(t).value, 1e-12);
+
+  // The same seed: the same motion, to the bit; another seed: another motion; gain scales it.
+  const RigidMotion<2> again = rigid_motion_of<2>(paddle);
+  m.seed = 8;
+  const RigidMotion<2> reseeded = rigid_motion_of<2>(paddle);
+  m.seed = 7;
+  m.gain = 1.5;
+  const RigidMotion<2> gained = rigid_motion_of<2>(paddle);
+  m.gain = 1.0;
+  double difference = 0.0;
+  for (double t = 0.0; t < 20.0; t += 0.1) {
+    EXPECT_EQ(again.translation->at(t).value, law.at(t).value);
+    EXPECT_EQ(again.translation->at(t).acceleration, law.at(t).acceleration);
+    EXPECT_NEAR(gained.translation->at(t).value, 1.5 * law.at(t).value, 1e-15);
+    difference = std::max(difference, std::abs(reseeded.translation->at(t).value - law.at(t).value));
+  }
+  EXPECT_GT(difference, 0.005);
+
+  // One component: a sinusoid at Tp whose amplitude is the regular maker's for H = Hs / sqrt 2.
+  m.components = 1;
+  const RigidMotion<2> single = rigid_motion_of<2>(paddle);
+  const double omega = 2.0 * std::numbers::pi / 1.2, k = waves::wavenumber(omega, 0.4);
+  const double half_stroke = 0.5 * (0.06 / std::sqrt(2.0)) / waves::piston_height_per_stroke(k * 0.4);
+  for (double t : {2.5, 3.1, 9.75}) {
+    const LawValue x = single.translation->at(t);
+    EXPECT_NEAR(std::hypot(x.value, x.rate / omega), half_stroke, 1e-15);
+    EXPECT_NEAR(x.acceleration, -omega * omega * x.value, 1e-13);
+  }
+  EXPECT_NEAR(single.translation->settled_after(), 2.4 + 1.2, 1e-12);
+  m.components = 50;
+
+  // A flap hinged 0.1 m above the floor.
+  Region flap;
+  flap.rotation = m;
+  flap.rotation.direction = {};
+  flap.rotation.centre = {0.08, 0.1, 0.0};
+  const RigidMotion<2> turning = rigid_motion_of<2>(flap);
+  for (double t : {2.5, 4.45, 13.1})
+    EXPECT_NEAR(turning.rotation->at(t).value, -std::atan(expected(t, true) / 0.3), 1e-14) << "t = " << t;
+  for (double t : {0.7, 2.2, 6.1}) expect_derivatives(*turning.rotation, t, 1.0);
+
+  // The regular law is SinusoidalLaw as it was, bit for bit.
+  Region regular;
+  regular.translation.law = MotionLawType::wave;
+  regular.translation.direction = {1.0, 0.0, 0.0};
+  regular.translation.height = 0.08;
+  regular.translation.period = 1.2;
+  regular.translation.depth = 0.4;
+  regular.translation.ramp = 2.0;
+  const double regular_stroke = 0.08 / waves::piston_height_per_stroke(waves::wavenumber(omega, 0.4) * 0.4);
+  const SinusoidalLaw sine(1.0 * 0.5 * regular_stroke, 1.2, 0.0, 0.0, 2.0);
+  const RigidMotion<2> regular_motion = rigid_motion_of<2>(regular);
+  for (double t = 0.0; t < 10.0; t += 0.37) {
+    const LawValue a = regular_motion.translation->at(t), b = sine.at(t);
+    EXPECT_EQ(a.value, b.value);
+    EXPECT_EQ(a.rate, b.rate);
+    EXPECT_EQ(a.acceleration, b.acceleration);
+  }
+}
+
 // A recorded series: the natural cubic spline passes through every sample, its rate and acceleration
 // are continuous across them, and on a dense sampling of a sine it gives the sine's acceleration.
 TEST(MotionLaws, TableSplineIsTwiceDifferentiable) {

@@ -100,6 +100,22 @@ FlumeWave wave_of(const Case& c, const FlumeOptions& o) {
       const MotionLawSpec& m = rotation ? c.walls[i].rotation : c.walls[i].translation;
       if (m.law != MotionLawType::wave) continue;
       w.maker = fmt::format("wall[{}].{} ({})", i, rotation ? "rotation" : "translation", c.walls[i].name);
+      if (m.spectrum == WaveSpectrum::jonswap) {
+        // Irregular waves have no one height and period to measure against: with --period the gauges'
+        // harmonics at that period are measured (against --height if given), from the ramp's end.
+        if (!(o.period > 0.0))
+          throw AnalysisError(fmt::format(
+              "{} makes irregular waves (spectrum = \"jonswap\", Hs = {} m, Tp = {} s); sluice analyze measures "
+              "regular waves, and irregular ones only at one period given with --period (e.g. --period {}, the peak "
+              "period)",
+              w.maker, m.significant_height, m.peak_period, m.peak_period));
+        w.depth = m.depth;
+        w.start = m.start;
+        w.ramp_time = m.ramp * m.peak_period;
+        w.order = 1;
+        w.maker_x = rotation ? m.centre[0] : face_x(c.walls[i]);
+        break;
+      }
       w.height = m.height * m.gain;
       w.period = m.period;
       w.depth = m.depth;

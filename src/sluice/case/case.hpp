@@ -56,6 +56,9 @@ enum class AfterMotion { hold, continue_ };
 inline constexpr std::array<std::string_view, 2> after_motion_names = {"hold", "continue"};
 enum class PastFileEnd { error, hold };
 inline constexpr std::array<std::string_view, 2> past_file_end_names = {"error", "hold"};
+// A wave law's waves: regular (one height and period) or irregular from a JONSWAP spectrum.
+enum class WaveSpectrum { regular, jonswap };
+inline constexpr std::array<std::string_view, 2> wave_spectrum_names = {"regular", "jonswap"};
 
 template <class E, std::size_t N>
 constexpr std::string_view name_of(E value, const std::array<std::string_view, N>& names) {
@@ -84,6 +87,12 @@ struct MotionLawSpec {
   // second order (Madsen), its stroke times `gain`, ramped over `ramp` periods from `start`.
   double height = 0.0, depth = 0.0, gain = 1.0;
   int order = 1;
+  // wave, spectrum = jonswap: irregular waves of significant height Hs and peak period Tp from a
+  // JONSWAP spectrum of peak enhancement gamma, in `components` components whose phases come from
+  // `seed` (geometry/wave_theory.hpp), ramped over `ramp` peak periods; depth, gain, start as above.
+  WaveSpectrum spectrum = WaveSpectrum::regular;
+  double significant_height = 0.0, peak_period = 0.0, gamma = 3.3;
+  int components = 200, seed = 1;
   std::shared_ptr<const MotionSeries> series;  // file: the series read (set by the loader, not a key)
 };
 

@@ -6,12 +6,15 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
+#include <numbers>
 #include <set>
 #include <string_view>
 #include <utility>
 #include <vector>
 
 #include "sluice/core/body_id.hpp"
+#include "sluice/geometry/wave_theory.hpp"
 
 #include "sluice/case/case_error.hpp"
 #include "sluice/case/value_text.hpp"
@@ -337,7 +340,9 @@ struct Checker {
                          format_vector(v, c.dimension), rotation ? "axis of rotation" : "direction of motion"));
       if ((m.law == MotionLawType::linear || m.law == MotionLawType::polynomial) && !(m.end > m.start))
         fail(fmt::format("{}.end = {} s is not after its start, {} s; expected end > start", key, m.end, m.start));
-      if ((m.law == MotionLawType::sinusoidal || m.law == MotionLawType::wave) && !(m.period > 0.0))
+      const bool periodic = m.law == MotionLawType::sinusoidal ||
+                            (m.law == MotionLawType::wave && m.spectrum == WaveSpectrum::regular);
+      if (periodic && !(m.period > 0.0))
         fail(fmt::format("{}.period = {} s: a {} law needs its period; expected a period > 0", key, m.period,
                          name_of(m.law, motion_law_names)));
       if (m.law == MotionLawType::wave && key.rfind("tank.", 0) == 0)
@@ -370,9 +375,12 @@ struct Checker {
   // A wave maker: a piston (a translation) or a flap (a rotation about its hinge, on the floor or
   // above it and below the still water), with the wave's height and the water's depth.
   void check_wave_maker(const MotionLawSpec& m, const std::string& key, bool rotation) const {
-    if (!(m.height > 0.0)) fail(fmt::format("{}.height = {} m: expected the waves' height, > 0", key, m.height));
+    const bool jonswap = m.spectrum == WaveSpectrum::jonswap;
+    if (!jonswap && !(m.height > 0.0))
+      fail(fmt::format("{}.height = {} m: expected the waves' height, > 0", key, m.height));
     if (!(m.depth > 0.0)) fail(fmt::format("{}.depth = {} m: expected the still water's depth at the piston, > 0", key, m.depth));
     if (m.order != 1 && m.order != 2) fail(fmt::format("{}.order = {}: expected 1 or 2", key, m.order));
+    if (jonswap) check_jonswap(m, key);
     if (!rotation) return;
     const double hinge = m.centre[c.dimension - 1];
     if (!(hinge >= 0.0 && hinge < m.depth))
@@ -382,6 +390,47 @@ struct Checker {
     if (m.order != 1)
       fail(fmt::format("{}.order = {}: second-order generation is for a piston; expected order = 1 for a flap", key,
                        m.order));
+  }
+
+  // Irregular waves from a JONSWAP spectrum: its figures in range, first order, a ramp that starts the
+  // paddle from rest, and most of the spectrum's energy at wavelengths the particles can carry.
+  void check_jonswap(const MotionLawSpec& m, const std::string& key) const {
+    if (!(m.significant_height > 0.0))
+      fail(fmt::format("{}.significant_height = {} m: expected the significant height Hs of the waves, > 0", key,
+                       m.significant_height));
+    if (!(m.peak_period > 0.0))
+      fail(fmt::format("{}.peak_period = {} s: expected the spectrum's peak period Tp, > 0", key, m.peak_period));
+    if (!(m.gamma >= 1.0 && m.gamma <= 10.0))
+      fail(fmt::format("{}.gamma = {}: expected the peak enhancement factor from 1 (Pierson-Moskowitz) to 10 (3.3 "
+                       "is the JONSWAP mean)",
+                       key, m.gamma));
+    if (m.components < 1 || m.components > 10000)
+      fail(fmt::format("{}.components = {}: expected 1 to 10000 components", key, m.components));
+    if (m.seed < 0) fail(fmt::format("{}.seed = {}: expected a seed from 0 to 2147483647", key, m.seed));
+    if (m.order != 1)
+      fail(fmt::format("{}.order = {}: second-order generation of irregular (JONSWAP) waves is not implemented; "
+                       "expected order = 1",
+                       key, m.order));
+    if (!(m.ramp >= 1.0))
+      fail(fmt::format("{}.ramp = {} peak periods: irregular waves start at random phases, the paddle away from "
+                       "its rest position; expected a ramp of at least 1 peak period (e.g. 2) to start it from rest",
+                       key, m.ramp));
+    // A wave shorter than twice the kernel's support (4h) has under one support per half wavelength:
+    // the particles cannot carry it.
+    const double g = norm(c.gravity) > 0.0 ? norm(c.gravity) : waves::kGravity;
+    const double shortest = 4.0 * c.smoothing_length();
+    const waves::IrregularSea sea = waves::jonswap_sea(m.significant_height, m.peak_period, m.gamma, m.components,
+                                                       static_cast<std::uint64_t>(m.seed));
+    const double share = waves::share_longer_than(sea, shortest, m.depth, g);
+    if (share < 0.5) {
+      const double peak_length =
+          2.0 * std::numbers::pi / waves::wavenumber(2.0 * std::numbers::pi / m.peak_period, m.depth, g);
+      fail(fmt::format("{}: the JONSWAP spectrum (significant_height = {} m, peak_period = {} s) has little energy in "
+                       "the flume's range: {:.1f} % of it at wavelengths of at least 4h = {:.4g} m, the shortest the "
+                       "particles carry (domain.dx = {} m), its peak wavelength {:.4g} m; expected at least half of "
+                       "it there: a longer peak_period or a smaller domain.dx",
+                       key, m.significant_height, m.peak_period, 100.0 * share, shortest, c.dx, peak_length));
+    }
   }
 
   // The set-up fills the tank and its walls (2h each side) with a lattice: a bound on its points keeps

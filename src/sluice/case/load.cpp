@@ -31,7 +31,11 @@ std::string where(const std::string& source, const toml::node& n) {
 
 std::string describe_shape(const Region& r) { return std::string(name_of(r.shape, shape_names)); }
 std::string describe_shape(const Probe& p) { return std::string(name_of(p.type, probe_type_names)) + " probe"; }
-std::string describe_shape(const MotionLawSpec& m) { return std::string(name_of(m.law, motion_law_names)) + " law"; }
+std::string describe_shape(const MotionLawSpec& m) {
+  if (m.law == MotionLawType::wave)
+    return fmt::format("wave law with spectrum = \"{}\"", name_of(m.spectrum, wave_spectrum_names));
+  return std::string(name_of(m.law, motion_law_names)) + " law";
+}
 
 template <class Owner>
 std::vector<std::string> keys_of(const std::vector<Param<Owner>>& params) {

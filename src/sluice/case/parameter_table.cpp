@@ -295,7 +295,10 @@ bool is_polynomial(const MotionLawSpec& m) { return law_is(m, MotionLawType::pol
 bool is_sinusoidal(const MotionLawSpec& m) { return law_is(m, MotionLawType::sinusoidal); }
 bool is_file(const MotionLawSpec& m) { return law_is(m, MotionLawType::file); }
 bool is_wave(const MotionLawSpec& m) { return law_is(m, MotionLawType::wave); }
+bool is_regular_wave(const MotionLawSpec& m) { return is_wave(m) && m.spectrum == WaveSpectrum::regular; }
+bool is_jonswap(const MotionLawSpec& m) { return is_wave(m) && m.spectrum == WaveSpectrum::jonswap; }
 bool is_periodic(const MotionLawSpec& m) { return is_sinusoidal(m) || is_wave(m); }
+bool has_period(const MotionLawSpec& m) { return is_sinusoidal(m) || is_regular_wave(m); }
 bool has_interval(const MotionLawSpec& m) { return is_linear(m) || is_polynomial(m); }
 bool has_start(const MotionLawSpec& m) { return has_interval(m) || is_periodic(m); }
 
@@ -314,7 +317,8 @@ std::vector<Param<MotionLawSpec>> law_params(bool rotation) {
                       "is a piston, with Madsen's second-order correction for order = 2; a rotation is a flap hinged "
                       "at `centre` (its height above the floor), its angle -atan(X / (depth - hinge)) for the "
                       "displacement X = (S/2) sin(omega t) at the still-water level, so that its top swings first "
-                      "along up x axis: towards +x in 2D).",
+                      "along up x axis: towards +x in 2D); with spectrum = \"jonswap\", irregular waves: the sum "
+                      "of such motions for the components of a JONSWAP spectrum).",
                       what)),
   };
   if (rotation) {
@@ -344,15 +348,17 @@ std::vector<Param<MotionLawSpec>> law_params(bool rotation) {
                                       "rate it had at `end`).")),
       used_by(is_sinusoidal, declare("amplitude", &MotionLawSpec::amplitude, unit, 0.0, unbounded_lower,
                                      unbounded_upper, "Sinusoidal: the amplitude.")),
-      used_by(is_periodic,
-              declare("period", &MotionLawSpec::period, "s", 0.0, 1e-6, inf, "Sinusoidal, wave: the period.")),
+      used_by(has_period, declare("period", &MotionLawSpec::period, "s", 0.0, 1e-6, inf,
+                                  "Sinusoidal, wave (regular): the period.")),
       optional_for(is_sinusoidal, declare("phase", &MotionLawSpec::phase, "deg", 0.0, -360.0, 360.0,
                                           "Sinusoidal: the phase; the value is shifted so that it starts at 0.")),
       optional_for(is_periodic, declare("ramp", &MotionLawSpec::ramp, "periods", 0.0, 0.0, 1e6,
-                                        "Sinusoidal, wave: the number of periods over which the motion grows from rest "
-                                        "((1 - cos) ramp: the wall starts with zero velocity and acceleration).")),
-      used_by(is_wave, declare("height", &MotionLawSpec::height, "m", 0.0, 1e-9, inf,
-                               "Wave: the height H (crest to trough) of the waves the wave maker makes.")),
+                                        "Sinusoidal, wave: the number of periods (for spectrum = \"jonswap\", of "
+                                        "the peak period, at least 1) over which the motion grows from rest ((1 - cos) "
+                                        "ramp: the wall starts with zero velocity and acceleration).")),
+      used_by(is_regular_wave, declare("height", &MotionLawSpec::height, "m", 0.0, 1e-9, inf,
+                                       "Wave (regular): the height H (crest to trough) of the waves the wave maker "
+                                       "makes.")),
       used_by(is_wave, declare("depth", &MotionLawSpec::depth, "m", 0.0, 1e-9, inf,
                                "Wave: the still water's depth h at the wave maker, which the theory needs.")),
       optional_for(is_wave, declare("order", &MotionLawSpec::order, "", 1, 1, 2,
@@ -361,6 +367,26 @@ std::vector<Param<MotionLawSpec>> law_params(bool rotation) {
                                     "first-order motion makes.")),
       optional_for(is_wave, declare("gain", &MotionLawSpec::gain, "", 1.0, 0.0, inf,
                                     "Wave: a factor on the wave maker's motion (the stroke theory gives times gain).")),
+      optional_for(is_wave, declare_choice<&MotionLawSpec::spectrum>(
+                                "spectrum", WaveSpectrum::regular, wave_spectrum_names,
+                                "Wave: regular (waves of one `height` and `period`) or jonswap (irregular waves from "
+                                "a JONSWAP spectrum: significant_height, peak_period, gamma, components, seed; first "
+                                "order, each component's stroke from its own transfer function; see docs/waves.md).")),
+      used_by(is_jonswap, declare("significant_height", &MotionLawSpec::significant_height, "m", 0.0, 1e-9, inf,
+                                  "Wave (jonswap): the significant height Hs = 4 sqrt(m0) of the spectrum the wave "
+                                  "maker makes.")),
+      used_by(is_jonswap, declare("peak_period", &MotionLawSpec::peak_period, "s", 0.0, 1e-6, inf,
+                                  "Wave (jonswap): the spectrum's peak period Tp = 1/fp.")),
+      optional_for(is_jonswap, declare("gamma", &MotionLawSpec::gamma, "", 3.3, 1.0, 10.0,
+                                       "Wave (jonswap): the peak enhancement factor gamma (1: a Pierson-Moskowitz "
+                                       "spectrum; 3.3: the JONSWAP mean).")),
+      optional_for(is_jonswap, declare("components", &MotionLawSpec::components, "", 200, 1.0, 10000.0,
+                                       "Wave (jonswap): the number of components, in equal bins of width fp/M, "
+                                       "M = round(components/2.5), from fp/2 to about 3 fp; the waves repeat every "
+                                       "M peak periods.")),
+      optional_for(is_jonswap, declare("seed", &MotionLawSpec::seed, "", 1, 0.0, 2147483647.0,
+                                       "Wave (jonswap): the seed of the components' random phases (the same seed "
+                                       "makes the same waves on every machine).")),
       used_by(is_file, declare("file", &MotionLawSpec::file, "", std::string(""), unbounded_lower, unbounded_upper,
                                "File: a CSV with a header line; a relative path is relative to the case file's "
                                "directory.")),

@@ -1,7 +1,10 @@
 #include "sluice/case/rigid_motion.hpp"
 
 #include <cmath>
+#include <cstdint>
 #include <numbers>
+#include <utility>
+#include <vector>
 
 #include "sluice/geometry/wave_theory.hpp"
 
@@ -12,11 +15,28 @@ namespace {
 // A wave maker: the horizontal displacement of its face at the still-water level. A piston's stroke
 // is S = H / (H/S) (Biesel); order 2 adds Madsen's term at twice the frequency, ramped over the same
 // time (twice the periods of the second harmonic). A flap (hinge > -1: its hinge's height above the
-// floor) has the stroke of its own transfer function, and no second-order term.
+// floor) has the stroke of its own transfer function, and no second-order term. A JONSWAP spectrum's
+// waves are the sum of its components' first-order motions.
 std::shared_ptr<const ScalarLaw> wave_maker_displacement(const MotionLawSpec& m, double hinge) {
+  const bool flap = hinge > -1.0;
+  if (m.spectrum == WaveSpectrum::jonswap) {
+    // Irregular waves, first order: each component of elevation amplitude a at frequency f is made by
+    // a stroke S = 2a / (H/S) at its own wavenumber, X = (S/2) sin(2 pi f t + phase); the sum ramped
+    // over `ramp` peak periods.
+    const waves::IrregularSea sea = waves::jonswap_sea(m.significant_height, m.peak_period, m.gamma, m.components,
+                                                       static_cast<std::uint64_t>(m.seed));
+    std::vector<SineSumLaw::Term> terms;
+    for (const waves::WaveComponent& c : sea.components) {
+      const double omega = 2.0 * std::numbers::pi * c.frequency;
+      const double k = waves::wavenumber(omega, m.depth);
+      const double per_stroke =
+          flap ? waves::flap_height_per_stroke(k, m.depth, hinge) : waves::piston_height_per_stroke(k * m.depth);
+      terms.push_back({m.gain * c.amplitude / per_stroke, omega, c.phase});
+    }
+    return std::make_shared<SineSumLaw>(std::move(terms), m.start, m.ramp * m.peak_period, 1.0 / sea.df);
+  }
   const double omega = 2.0 * std::numbers::pi / m.period;
   const double k = waves::wavenumber(omega, m.depth);
-  const bool flap = hinge > -1.0;
   const double stroke =
       m.height / (flap ? waves::flap_height_per_stroke(k, m.depth, hinge) : waves::piston_height_per_stroke(k * m.depth));
   auto first = std::make_shared<SinusoidalLaw>(m.gain * 0.5 * stroke, m.period, 0.0, m.start, m.ramp);

@@ -88,6 +88,31 @@ double SinusoidalLaw::largest_magnitude(double /*end*/) const {
   return std::abs(amplitude_) * (1.0 + std::abs(std::sin(phase_)));
 }
 
+SineSumLaw::SineSumLaw(std::vector<Term> terms, double start, double ramp_time, double repeat_period)
+    : terms_(std::move(terms)), start_(start), ramp_time_(ramp_time), repeat_period_(repeat_period) {
+  if (terms_.empty()) throw MotionError("a sum of sinusoids needs at least one term");
+  if (!(ramp_time >= 0.0)) throw MotionError(fmt::format("a sum of sinusoids' ramp {} s is negative", ramp_time));
+  if (!(repeat_period > 0.0))
+    throw MotionError(fmt::format("a sum of sinusoids' repeat period {} s is not positive", repeat_period));
+}
+
+LawValue SineSumLaw::at(double t) const {
+  if (t <= start_) return {};
+  const double tau = t - start_;
+  double g = 0.0, dg = 0.0, ddg = 0.0;
+  for (const Term& term : terms_) {
+    const double angle = term.omega * tau + term.phase;
+    const double s = std::sin(angle), c = std::cos(angle);
+    g += term.amplitude * s;
+    dg += term.amplitude * term.omega * c;
+    ddg -= term.amplitude * term.omega * term.omega * s;
+  }
+  if (!(tau < ramp_time_)) return {g, dg, ddg};
+  const double k = std::numbers::pi / ramp_time_;
+  const double r = 0.5 * (1.0 - std::cos(k * tau)), dr = 0.5 * k * std::sin(k * tau), ddr = 0.5 * k * k * std::cos(k * tau);
+  return {g * r, dg * r + g * dr, ddg * r + 2.0 * dg * dr + g * ddr};
+}
+
 TableLaw::TableLaw(std::vector<double> times, std::vector<double> values) : t_(std::move(times)), y_(std::move(values)) {
   const std::size_t n = t_.size();
   if (n < 2 || y_.size() != n) throw MotionError("a motion table needs at least two rows of time and value");

@@ -94,6 +94,30 @@ class SinusoidalLaw final : public ScalarLaw {
   double amplitude_, period_, phase_, start_, ramp_periods_;
 };
 
+// An irregular wave maker's displacement: sum_n A_n sin(omega_n (t - start) + phi_n) from `start` on
+// (0 before), times the ramp of SinusoidalLaw, (1 - cos(pi s)) / 2 with s = (t - start) / ramp_time,
+// over the first ramp_time seconds. The rate and acceleration are the sums' own derivatives with the
+// ramp's. The value, rate and acceleration start at 0 except the acceleration, which starts at
+// r''(0) X(start) = pi^2 / (2 ramp_time^2) sum A_n sin(phi_n), and steps by as much at the ramp's end
+// (the phases are not shifted to cancel it, which would move the paddle's mean position). Every
+// omega_n is a whole multiple of 2 pi / repeat_period, so after the ramp the motion repeats every
+// repeat_period.
+class SineSumLaw final : public ScalarLaw {
+ public:
+  struct Term {
+    double amplitude = 0.0, omega = 0.0, phase = 0.0;
+  };
+  SineSumLaw(std::vector<Term> terms, double start, double ramp_time, double repeat_period);
+  [[nodiscard]] LawValue at(double t) const override;
+  // The ramp and one repeat period after it: every value it will take.
+  [[nodiscard]] double settled_after() const override { return start_ + ramp_time_ + repeat_period_; }
+  [[nodiscard]] const std::vector<Term>& terms() const { return terms_; }
+
+ private:
+  std::vector<Term> terms_;
+  double start_, ramp_time_, repeat_period_;
+};
+
 // The sum of two laws (a piston's first- and second-order motions): values, rates and accelerations
 // add; it settles when both have.
 class SumLaw final : public ScalarLaw {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <numbers>
@@ -341,6 +342,53 @@ std::shared_ptr<const Solid<Dim>> box_solid(const Vec<Dim>& lower, const Vec<Dim
   return make_box<Dim>(lower, upper);
 }
 
+// What an irregular wave maker will make: its spectrum's figures, the peak wave's length, kh and
+// steepness Hs/Lp, the band and when the waves repeat, the paddle's stroke (its rms and 4 rms, the
+// stroke's significant value), the energy too short for the particles; and the regular maker's
+// breaking warnings for the significant wave (the highest waves of a sea are about twice as high).
+void add_jonswap_notes(std::vector<std::string>& notes, const Case& c, const MotionLawSpec& m, const std::string& key,
+                       bool rotation, double g) {
+  const waves::IrregularSea sea =
+      waves::jonswap_sea(m.significant_height, m.peak_period, m.gamma, m.components, static_cast<std::uint64_t>(m.seed));
+  const waves::RegularWave peak = waves::regular_wave(m.significant_height, m.peak_period, m.depth, g);
+  const double hinge = m.centre[c.dimension - 1];
+  double stroke_variance = 0.0;
+  for (const waves::WaveComponent& component : sea.components) {
+    const double k = waves::wavenumber(2.0 * std::numbers::pi * component.frequency, m.depth, g);
+    const double per_stroke =
+        rotation ? waves::flap_height_per_stroke(k, m.depth, hinge) : waves::piston_height_per_stroke(k * m.depth);
+    const double x = m.gain * component.amplitude / per_stroke;
+    stroke_variance += 0.5 * x * x;
+  }
+  const double stroke_rms = std::sqrt(stroke_variance);
+  const double fp = sea.peak_frequency;
+  std::string note = fmt::format(
+      "{}: {} waves from a JONSWAP spectrum Hs = {:.4g} m, Tp = {:.4g} s, gamma = {:.3g} on h = {:.4g} m: peak "
+      "wavelength {:.4g} m, kh = {:.3f} at the peak, Hs/Lp = {:.4f}; {} components from {:.3g} to {:.3g} fp, df = "
+      "{:.4g} Hz (seed {}), {:.1f} % of the spectrum in the band; the waves repeat every {:.4g} s; stroke rms "
+      "{:.4g} m, 4 rms {:.4g} m at the still-water level",
+      key, rotation ? "flap" : "piston", m.significant_height, m.peak_period, m.gamma, m.depth, peak.wavelength,
+      peak.kh, peak.steepness, sea.components.size(), sea.components.front().frequency / fp,
+      sea.components.back().frequency / fp, sea.df, m.seed, 100.0 * sea.band_share, 1.0 / sea.df, stroke_rms,
+      4.0 * stroke_rms);
+  if (rotation)
+    note += fmt::format(" (hinge {:.4g} m above the floor, angle rms about {:.4g} deg)", hinge,
+                        std::atan(stroke_rms / (m.depth - hinge)) * 180.0 / std::numbers::pi);
+  const double shortest = 4.0 * c.smoothing_length();
+  const double short_share = 1.0 - waves::share_longer_than(sea, shortest, m.depth, g);
+  if (short_share > 0.01)
+    note += fmt::format("; {:.1f} % of the energy at wavelengths under 4h = {:.4g} m, too short for the particles",
+                        100.0 * short_share, shortest);
+  notes.push_back(note);
+  if (peak.steepness > peak.miche_steepness)
+    notes.push_back(fmt::format("warning: {}: Hs/Lp = {:.4f} is past Miche's breaking limit 0.142 tanh(kh) = {:.4f} "
+                                "at the peak: the significant wave breaks",
+                                key, peak.steepness, peak.miche_steepness));
+  if (m.significant_height / m.depth > 0.78)
+    notes.push_back(fmt::format("warning: {}: Hs/h = {:.3f} is past the depth-limited breaking limit 0.78", key,
+                                m.significant_height / m.depth));
+}
+
 // What a wave maker will make, by linear theory: the wave's length, kh, steepness and the stroke
 // that makes it; and a warning where the wave lies past a breaking limit (Miche's steepness
 // 0.142 tanh kh, or H/h > 0.78) or, for second order, where Stokes' second-order theory fails
@@ -351,6 +399,7 @@ void add_wave_maker_notes(std::vector<std::string>& notes, const Case& c) {
   if (!(g > 0.0)) return;
   for_each_motion_law(c, [&](const MotionLawSpec& m, const std::string& key, bool rotation) {
     if (m.law != MotionLawType::wave) return;
+    if (m.spectrum == WaveSpectrum::jonswap) return add_jonswap_notes(notes, c, m, key, rotation, g);
     const waves::RegularWave w = waves::regular_wave(m.height, m.period, m.depth, g);
     const double hinge = m.centre[c.dimension - 1];
     const double stroke = m.gain * m.height /
