@@ -264,6 +264,10 @@ TEST(AnalysisCommands, BadInputIsAClearError) {
       {"validate --case spheric2 --set 'water[0].max=[3.22, 1.0, 0.5]'", "the SPHERIC test 2 data are for a 3D tank"},
       {"validate --case buchner --set tank.width=3.5", "the Buchner data are for a column 2H wide"},
       {"validate --case martin_moyce --set 'physics.gravity=[0.1, -9.81]'", "assume gravity straight down"},
+      // The wave cases: wave_flume without its damping zone, an NTNU run driven by another run's paddle.
+      {"validate --case wave_flume --set damping.length=0", "needs its wave maker (law = \"wave\") and its damping"},
+      {"validate --waves --case ntnu_1062 --set wall[1].rotation.file=ntnu_flume2025_1102.csv",
+       "the flap (wall[1]) must be driven by the record ntnu_flume2025_1062.csv"},
       // The cases' wall function is refused with dynamic walls: the message says how to switch it off.
       {"validate --case buchner --set physics.wall_boundary=dynamic",
        "put physics.wall_friction=none before the walls"},
