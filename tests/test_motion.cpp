@@ -679,13 +679,13 @@ TEST(WallMotionFromCase, ABuiltInRecordIsFoundByName) {
   // 100 Hz from 4 s before the paddle moves to 45 s after: 4,900 samples.
   EXPECT_EQ(flap.series->times.size(), 4900u);
   EXPECT_NEAR(flap.series->times.front(), 14.98 - 17.98, 1e-12);
-  // Still before t = 1 s, then up to 0.014 m / 1.5 m = 0.53 degrees.
+  // Still before t = 1 s, then up to 0.014 m / 0.9 m = 0.89 degrees.
   double before = 0.0, after = 0.0;
   for (std::size_t j = 0; j < flap.series->times.size(); ++j)
     (flap.series->times[j] < 0.9 ? before : after) =
         std::max(flap.series->times[j] < 0.9 ? before : after, std::abs(flap.series->values[j]));
   EXPECT_LT(before, 0.01);
-  EXPECT_NEAR(after, 0.0140 * 38.197, 0.01);
+  EXPECT_NEAR(after, 0.0140 * 63.662, 0.01);
 
   const auto dir = std::filesystem::temp_directory_path() / "sluice_test_builtin_record";
   std::filesystem::remove_all(dir);

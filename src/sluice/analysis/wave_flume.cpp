@@ -317,6 +317,7 @@ FlumeAnalysis analyze_flume(const fs::path& run_dir, const Case& c, const FlumeO
     for (const auto* gw : used) {
       cw.t0 = std::max(cw.t0, gw->window->t0);
       if (a.reflector) cw.t1 = std::min(cw.t1, w.start + (2.0 * *a.reflector - gw->distance) / w.group_velocity - w.period);
+      if (record && c.damps()) cw.t1 = std::min(cw.t1, gw->window->t1);  // before the beach's reflection
     }
     const double whole = std::floor((cw.t1 - cw.t0) / w.period + 1e-9);
     if (whole >= 2.0) {
