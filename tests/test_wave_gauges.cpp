@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "sluice/analysis/irregular_waves.hpp"
 #include "sluice/analysis/wave_flume.hpp"
 #include "sluice/analysis/wave_gauges.hpp"
 #include "sluice/geometry/wave_theory.hpp"
@@ -286,5 +287,77 @@ TEST(WaveFlume, ARecordedPaddleIsComparedWithTheMeasurements) {
   const std::string text((std::istreambuf_iterator<char>(summary)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("largest first-harmonic error against the measurements,5."), std::string::npos) << text;
   EXPECT_TRUE(fs::exists(dir / "analysis" / "eta_WP_1.svg"));
+  fs::remove_all(dir);
+}
+
+// The variance spectrum of a sine holds its variance at its frequency.
+TEST(IrregularWaves, TheSpectrumOfASineHoldsItsVarianceAtItsFrequency) {
+  const Series s = sampled(0.0, 60.0, 0.02, [](double t) { return 0.4 + 0.03 * std::cos(2.0 * pi * 0.8 * t + 0.3); });
+  const VarianceSpectrum v = variance_spectrum(s, 0.0, 60.0, 3.0, 1);
+  double m0 = 0.0;
+  std::size_t peak = 0;
+  for (std::size_t k = 0; k < v.f.size(); ++k) {
+    m0 += v.s[k] * (v.f[1] - v.f[0]);
+    if (v.s[k] > v.s[peak]) peak = k;
+  }
+  EXPECT_NEAR(v.f[peak], 0.8, 1e-9);
+  EXPECT_NEAR(m0, 0.5 * 0.03 * 0.03, 1e-6);
+}
+
+// Gauges reading a known JONSWAP sea (the maker's own components, travelling at their wavenumbers)
+// give its significant height and peak period.
+TEST(IrregularWaves, AKnownSeaGivesItsSignificantHeightAndPeakPeriod) {
+  Case c;
+  c.tank_width = 12.0;
+  c.tank_height = 0.8;
+  c.gravity = {0.0, -9.81, 0.0};
+  Region piston;
+  piston.name = "piston";
+  piston.max = {0.12, 0.7, 0.0};
+  MotionLawSpec& m = piston.translation;
+  m.law = MotionLawType::wave;
+  m.spectrum = WaveSpectrum::jonswap;
+  m.significant_height = 0.06;
+  m.peak_period = 1.2;
+  m.depth = 0.4;
+  m.components = 50;
+  m.ramp = 1.0;
+  c.walls.push_back(piston);
+  Probe p;
+  p.name = "g1";
+  p.type = ProbeType::gauge;
+  p.point = {2.0, 0.0, 0.0};
+  c.probes.push_back(p);
+  c.damping_start = {10.0, 0.0, 0.0};
+  c.damping_length = 2.0;
+  ASSERT_TRUE(has_irregular_maker(c));
+  const waves::IrregularSea sea = waves::jonswap_sea(0.06, 1.2, 3.3, 50, 1);
+  const fs::path dir = fs::temp_directory_path() / fmt::format("sluice_irregular_{}", getpid());
+  fs::remove_all(dir);
+  fs::create_directories(dir / "probes");
+  std::string csv = "time,height\n";
+  for (int j = 0; j <= 2000; ++j) {  // 40 s: the window holds more than the sea's 24 s repeat
+    const double t = 0.02 * j;
+    double eta = 0.0;
+    for (const auto& w : sea.components) {
+      const double omega = 2.0 * pi * w.frequency;
+      eta += w.amplitude * std::cos(omega * t - waves::wavenumber(omega, 0.4) * 1.88 + w.phase);
+    }
+    csv += fmt::format("{},{}\n", t, 0.4 + eta);
+  }
+  write_file_atomic(dir / "probes" / "g1.csv", csv);
+  const IrregularAnalysis a = analyze_irregular_flume(dir, c);
+  EXPECT_NEAR(a.repeat_period, 24.0, 1e-9);
+  ASSERT_EQ(a.gauges.size(), 1u);
+  const IrregularGauge& g = a.gauges[0];
+  ASSERT_TRUE(g.window) << g.note;
+  EXPECT_GT(g.window->periods(1.2), 20.0);
+  EXPECT_NEAR(g.hm0 / 0.06, 1.0, 0.05);
+  EXPECT_NEAR(g.peak_period / 1.2, 1.0, 0.08);
+  const std::string table = irregular_table(a);
+  EXPECT_NE(table.find("JONSWAP Hs = 0.06 m"), std::string::npos) << table;
+  write_irregular_report(a, dir, dir / "analysis");
+  for (const char* f : {"irregular.csv", "spectra.svg", "report.html"})
+    EXPECT_TRUE(fs::exists(dir / "analysis" / f)) << f;
   fs::remove_all(dir);
 }

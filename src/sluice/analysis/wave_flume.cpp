@@ -105,9 +105,9 @@ FlumeWave wave_of(const Case& c, const FlumeOptions& o) {
         // harmonics at that period are measured (against --height if given), from the ramp's end.
         if (!(o.period > 0.0))
           throw AnalysisError(fmt::format(
-              "{} makes irregular waves (spectrum = \"jonswap\", Hs = {} m, Tp = {} s); sluice analyze measures "
-              "regular waves, and irregular ones only at one period given with --period (e.g. --period {}, the peak "
-              "period)",
+              "{} makes irregular waves (spectrum = \"jonswap\", Hs = {} m, Tp = {} s): their significant height and "
+              "peak period are measured by the irregular-wave analysis; the regular one measures them only at one "
+              "period given with --period (e.g. --period {}, the peak period)",
               w.maker, m.significant_height, m.peak_period, m.peak_period));
         w.depth = m.depth;
         w.start = m.start;
@@ -249,10 +249,7 @@ FlumeAnalysis analyze_flume(const fs::path& run_dir, const Case& c, const FlumeO
     gw.distance = gw.x - w.maker_x;
     const Series& s = levels[i];
     const double quiet_until = w.start + std::max(0.0, gw.distance) / std::sqrt(g * w.depth);
-    double still = 0.0;
-    std::size_t quiet = 0;
-    for (std::size_t j = 0; j < s.size() && (s.t[j] <= quiet_until || j == 0); ++j, ++quiet) still += s.y[j];
-    still /= static_cast<double>(quiet);
+    const double still = mean_before(s, quiet_until);
     gw.eta = s;
     for (double& y : gw.eta.y) y -= still;
     gw.theory_phase = std::fmod(w.omega * w.start + w.k * gw.distance, two_pi);
@@ -275,11 +272,8 @@ FlumeAnalysis analyze_flume(const fs::path& run_dir, const Case& c, const FlumeO
       if (const auto col = gauge_column(*record, gw.name)) {
         Series m = record->series(r->law->time_column, record->columns[*col]);
         for (double& t : m.t) t += w.record_time_offset;
-        double still_m = 0.0;
-        std::size_t n = 0;
-        for (std::size_t j = 0; j < m.size() && m.t[j] <= w.start; ++j, ++n) still_m += m.y[j];
-        if (n > 0)
-          for (double& y : m.y) y -= still_m / static_cast<double>(n);
+        const double still_m = mean_before(m, w.start);
+        for (double& y : m.y) y -= still_m;
         gw.measured = std::move(m);
       }
     }

@@ -208,4 +208,12 @@ std::optional<Window> steady_window(double distance, double start, double ramp_t
   return w;
 }
 
+double mean_before(const Series& s, double until) {
+  if (s.empty()) throw AnalysisError("an empty series has no still level");
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (std::size_t j = 0; j < s.size() && (s.t[j] <= until || j == 0); ++j, ++n) sum += s.y[j];
+  return sum / static_cast<double>(n);
+}
+
 }  // namespace sluice::analysis

@@ -64,6 +64,10 @@ struct Decay {
 // Throws AnalysisError with fewer than two gauges, or a non-positive amplitude.
 Decay amplitude_decay(const std::vector<double>& x, const std::vector<double>& amplitude, double wavelength);
 
+// The mean of y over the samples with t <= until (at least the first sample): a gauge's still level
+// before the waves reach it. Throws AnalysisError for an empty series.
+double mean_before(const Series& s, double until);
+
 // When a gauge at distance `distance` from the wave maker sees steady waves: after the maker's start,
 // its ramp and the front's travel at the group velocity, plus `settle` periods for the front's tail;
 // and until `end`, or until the first reflection from a wall `reflector` metres from the maker

@@ -12,6 +12,7 @@
 
 #include "sluice/analysis/convergence.hpp"
 #include "sluice/analysis/validation.hpp"
+#include "sluice/analysis/irregular_waves.hpp"
 #include "sluice/analysis/wave_flume.hpp"
 #include "sluice/analysis/wave_report.hpp"
 #include "sluice/app/commands.hpp"
@@ -110,6 +111,20 @@ int analyze_flume(const AnalyzeArgs& a, const Case& c, const fs::path& out) {
   return 0;
 }
 
+// A wave flume with irregular waves: each gauge's significant height and peak period.
+int analyze_irregular(const AnalyzeArgs& a, const Case& c, const fs::path& out) {
+  analysis::IrregularAnalysis f;
+  try {
+    f = analysis::analyze_irregular_flume(a.dir, c);
+  } catch (const analysis::AnalysisError& e) {
+    throw BadInput(fmt::format("{}: {}", a.dir, e.what()));
+  }
+  analysis::write_irregular_report(f, a.dir, out);
+  std::cout << analysis::irregular_table(f);
+  std::cout << fmt::format("wrote {}/irregular.csv, spectra.svg and report.html\n", out.string());
+  return 0;
+}
+
 int analyze(const AnalyzeArgs& a) {
   const fs::path dir = a.dir;
   const fs::path checkpoint = dir / "checkpoint.bin";
@@ -121,6 +136,7 @@ int analyze(const AnalyzeArgs& a) {
                                a.dir));
   const Case c = read_checkpoint(checkpoint).config;
   const fs::path out = a.output.empty() ? dir / "analysis" : fs::path(a.output);
+  if (analysis::has_irregular_maker(c) && !(a.period > 0.0)) return analyze_irregular(a, c, out);
   if (analysis::has_wave_maker(c) || a.period > 0.0) return analyze_flume(a, c, out);
   analysis::WaveOptions options;
   options.front_threshold = a.threshold;
