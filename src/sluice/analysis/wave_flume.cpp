@@ -220,12 +220,12 @@ FlumeAnalysis analyze_flume(const fs::path& run_dir, const Case& c, const FlumeO
   }
   for (const Series& s : levels) a.end_time = std::max(a.end_time, s.t.back());
   std::optional<Table> record;
-  if (!w.record.empty()) {
-    const auto r = recorded_maker(c);
-    if (!r->law->series) throw AnalysisError(fmt::format("the paddle's record {} was not read with the case", w.record));
-    read_record_timing(*r->law->series, a.end_time, w);
+  const MotionLawSpec* recorded = w.record.empty() ? nullptr : recorded_maker(c)->law;
+  if (recorded) {
+    if (!recorded->series) throw AnalysisError(fmt::format("the paddle's record {} was not read with the case", w.record));
+    read_record_timing(*recorded->series, a.end_time, w);
     if (options.period > 0.0) w.period = options.period;
-    record = record_table(*r->law);
+    record = record_table(*recorded);
   }
   if (!(w.depth > 0.0)) w.depth = levels.front().y.front();
   w.omega = two_pi / w.period;
@@ -268,9 +268,8 @@ FlumeAnalysis analyze_flume(const fs::path& run_dir, const Case& c, const FlumeO
         gw.window.reset();
     }
     if (record) {
-      const auto r = recorded_maker(c);
       if (const auto col = gauge_column(*record, gw.name)) {
-        Series m = record->series(r->law->time_column, record->columns[*col]);
+        Series m = record->series(recorded->time_column, record->columns[*col]);
         for (double& t : m.t) t += w.record_time_offset;
         const double still_m = mean_before(m, w.start);
         for (double& y : m.y) y -= still_m;

@@ -342,6 +342,23 @@ std::shared_ptr<const Solid<Dim>> box_solid(const Vec<Dim>& lower, const Vec<Dim
   return make_box<Dim>(lower, upper);
 }
 
+// The breaking warnings of a wave maker: past Miche's steepness 0.142 tanh kh, or past the
+// depth-limited height H/h = 0.78; `words` name the ratios (H/L or Hs/Lp) and what breaks.
+struct BreakingWords {
+  const char* steepness;
+  const char* depth_ratio;
+  const char* breaks;
+};
+void add_breaking_warnings(std::vector<std::string>& notes, const std::string& key, const waves::RegularWave& w,
+                           double height_over_depth, const BreakingWords& words) {
+  if (w.steepness > w.miche_steepness)
+    notes.push_back(fmt::format("warning: {}: {} = {:.4f} is past Miche's breaking limit 0.142 tanh(kh) = {:.4f}{}", key,
+                                words.steepness, w.steepness, w.miche_steepness, words.breaks));
+  if (height_over_depth > 0.78)
+    notes.push_back(fmt::format("warning: {}: {} = {:.3f} is past the depth-limited breaking limit 0.78", key,
+                                words.depth_ratio, height_over_depth));
+}
+
 // What an irregular wave maker will make: its spectrum's figures, the peak wave's length, kh and
 // steepness Hs/Lp, the band and when the waves repeat, the paddle's stroke (its rms and 4 rms, the
 // stroke's significant value), the energy too short for the particles; and the regular maker's
@@ -380,13 +397,7 @@ void add_jonswap_notes(std::vector<std::string>& notes, const Case& c, const Mot
     note += fmt::format("; {:.1f} % of the energy at wavelengths under 4h = {:.4g} m, too short for the particles",
                         100.0 * short_share, shortest);
   notes.push_back(note);
-  if (peak.steepness > peak.miche_steepness)
-    notes.push_back(fmt::format("warning: {}: Hs/Lp = {:.4f} is past Miche's breaking limit 0.142 tanh(kh) = {:.4f} "
-                                "at the peak: the significant wave breaks",
-                                key, peak.steepness, peak.miche_steepness));
-  if (m.significant_height / m.depth > 0.78)
-    notes.push_back(fmt::format("warning: {}: Hs/h = {:.3f} is past the depth-limited breaking limit 0.78", key,
-                                m.significant_height / m.depth));
+  add_breaking_warnings(notes, key, peak, m.significant_height / m.depth, {"Hs/Lp", "Hs/h", " at the peak: the significant wave breaks"});
 }
 
 // What a wave maker will make, by linear theory: the wave's length, kh, steepness and the stroke
@@ -417,13 +428,7 @@ void add_wave_maker_notes(std::vector<std::string>& notes, const Case& c) {
     if (m.order == 2)
       note += fmt::format(", second-order amplitude {:.3g} m", m.gain * waves::madsen_second_order_amplitude(m.height, w.k, m.depth));
     notes.push_back(note);
-    if (w.steepness > w.miche_steepness)
-      notes.push_back(fmt::format("warning: {}: H/L = {:.4f} is past Miche's breaking limit 0.142 tanh(kh) = {:.4f}: "
-                                  "such a wave breaks",
-                                  key, w.steepness, w.miche_steepness));
-    if (m.height / m.depth > 0.78)
-      notes.push_back(fmt::format("warning: {}: H/h = {:.3f} is past the depth-limited breaking limit 0.78", key,
-                                  m.height / m.depth));
+    add_breaking_warnings(notes, key, w, m.height / m.depth, {"H/L", "H/h", ": such a wave breaks"});
     if (m.order == 2 && w.ursell > 8.0 * std::numbers::pi * std::numbers::pi / 3.0)
       notes.push_back(fmt::format("warning: {}: the Ursell number H L^2/h^3 = {:.3g} is above 8 pi^2/3 = 26.3, where "
                                   "second-order (Stokes) theory does not hold; the piston's second-order motion is "
