@@ -791,6 +791,44 @@ TEST(CaseValidation, APistonWaveMakerAndADampingZone) {
   expect_contains(override_error(three, "wall[0].translation.order=3"), {"wall[0].translation.order"});
 }
 
+// Active absorption: absorb = true on a piston and law = "absorber" read with their defaults (0: chosen
+// from the wave) and round-tripped by the template; refused on a flap, on the tank, on a piston moving
+// vertically, on a wall that also turns, and absorb beside another law.
+TEST(CaseValidation, AbsorbingPistons) {
+  const std::string flume = "[tank]\nwidth = 6.0\nheight = 0.8\n[[water]]\nmin = [0.12, 0.0]\nmax = [5.8, 0.4]\n";
+  const std::string piston = "[[wall]]\nname = \"piston\"\nmin = [0.04, 0.0]\nmax = [0.12, 0.7]\n[wall.translation]\n"
+                             "law = \"wave\"\ndirection = [1.0, 0.0]\nheight = 0.08\nperiod = 1.2\ndepth = 0.4\n";
+  const std::string absorber = "[[wall]]\nname = \"end\"\nmin = [5.8, 0.0]\nmax = [5.88, 0.7]\n[wall.translation]\n"
+                               "law = \"absorber\"\ndirection = [-1.0, 0.0]\ndepth = 0.4\n";
+  const Case c = parse(flume + piston + "absorb = true\n" + absorber + "absorption_limit = 0.05\n");
+  EXPECT_TRUE(c.walls[0].translation.absorb);
+  EXPECT_EQ(c.walls[0].translation.absorption_time, 0.0);
+  EXPECT_EQ(c.walls[1].translation.law, MotionLawType::absorber);
+  EXPECT_EQ(c.walls[1].translation.absorption_limit, 0.05);
+  const Case again = parse(case_template(c));
+  EXPECT_TRUE(again.walls[0].translation.absorb);
+  EXPECT_EQ(again.walls[1].translation.law, MotionLawType::absorber);
+  EXPECT_EQ(again.walls[1].translation.absorption_limit, 0.05);
+  const std::string flap = flume + "[[wall]]\nname = \"flap\"\nmin = [0.04, 0.0]\nmax = [0.12, 0.7]\n[wall.rotation]\n"
+                                   "law = \"wave\"\nheight = 0.08\nperiod = 1.2\ndepth = 0.4\ncentre = [0.08, 0.1]\n";
+  expect_contains(parse_error(flap + "absorb = true\n"),
+                  {"wall[0].rotation.absorb = true: active absorption is for a piston"});
+  expect_contains(parse_error(flume + "[tank.translation]\nlaw = \"absorber\"\ndirection = [1.0, 0.0]\ndepth = 0.4\n"),
+                  {"tank.translation.law = \"absorber\": the tank cannot absorb waves"});
+  expect_contains(parse_error(flume + "[[wall]]\nname = \"end\"\nmin = [5.8, 0.0]\nmax = [5.88, 0.7]\n[wall.translation]\n"
+                                      "law = \"absorber\"\ndirection = [-1.0, 0.5]\ndepth = 0.4\n"),
+                  {"wall[0].translation.direction = [-1.0, 0.5]: an absorbing piston moves horizontally"});
+  expect_contains(parse_error(flume + absorber + "[wall.rotation]\nlaw = \"sinusoidal\"\ncentre = [5.84, 0.0]\n"
+                                                 "amplitude = 1.0\nperiod = 2.0\n"),
+                  {"wall[0] (\"end\") absorbs waves and turns"});
+  expect_contains(parse_error(flume + "[[wall]]\nname = \"end\"\nmin = [5.8, 0.0]\nmax = [5.88, 0.7]\n[wall.translation]\n"
+                                      "law = \"absorber\"\ndirection = [-1.0, 0.0]\n"),
+                  {"[wall.translation] of [[wall]] number 1 has no 'depth'"});
+  expect_contains(parse_error(flume + "[[wall]]\nmin = [5.8, 0.0]\nmax = [5.88, 0.7]\n[wall.translation]\n"
+                                      "law = \"linear\"\ndirection = [-1.0, 0.0]\nspeed = 0.1\nend = 1.0\nabsorb = true\n"),
+                  {"absorb"});
+}
+
 // spectrum = "jonswap": its keys read with their defaults (gamma 3.3, 200 components, seed 1) and
 // round-tripped by the template; a regular wave's height and period refused beside it and its keys
 // beside a regular wave; each bad value refused, naming the key, the value and what was expected:

@@ -186,6 +186,97 @@ TEST(WaveTheory, APistonsLawIsTheStrokeTheTheoryGives) {
   for (double t : {0.3, 1.7, 3.3}) expect_derivatives(*second.translation, t, 1.0);
 }
 
+// Active absorption: an absorber alone stays at rest while the surface in front of it is still; a
+// wave arriving at the gauge moves it `delay` later (when the wave reaches it) with the wave's water,
+// at -sqrt(g/h) eta along its direction; a steady offset of the level is ignored; its displacement is
+// continuous between observations and stays within its limit; its state carries it exactly.
+TEST(ActiveAbsorption, AnAbsorberMovesWithTheWaterOfAnArrivingWave) {
+  const double g = 9.81, h = 0.4, gain = std::sqrt(g / h), delay = 0.05, tau = 4.0, limit = 0.05;
+  AbsorbingLaw a(nullptr, nullptr, gain, delay, tau, limit);
+  // The first observation is the level it starts from (here 3 mm above the nominal depth): no motion.
+  double t = 0.0;
+  for (; t < 0.1 - 1e-12; t += 0.001) a.observe(t, 0.003);
+  EXPECT_EQ(a.at(t).value, 0.0);
+  EXPECT_EQ(a.at(t).rate, 0.0);
+  // A crest 1 cm above that level from t = 0.1 s: nothing until it has had time to reach the piston.
+  // (the past is kept every delay / 8: the step is smeared over that much earlier)
+  for (; t < 0.1 + delay - 0.008; t += 0.001) a.observe(t, 0.013);
+  EXPECT_EQ(a.at(t).rate, 0.0) << t;
+  for (; t < 0.1 + delay + 0.01; t += 0.001) a.observe(t, 0.013);
+  // Then the piston moves back (against its direction into the water) at sqrt(g/h) * 0.01, less the
+  // error's mean (a few thousandths of it yet) and the pull back to its target (not yet 1e-4 m).
+  EXPECT_NEAR(a.at(t).rate, -gain * 0.01, 0.01 * gain * 0.01);
+  EXPECT_LT(a.at(t).rate, 0.0);
+  // The displacement is continuous: at the next observation it is the rate times the time since.
+  const double x = a.at(t + 0.001).value;
+  EXPECT_NEAR(x, a.at(t).value + 0.001 * a.at(t).rate, 1e-15);
+  a.observe(t + 0.001, 0.013);
+  t += 0.001;
+  EXPECT_EQ(a.at(t).value, x);
+  EXPECT_EQ(a.at(t).acceleration, 0.0);
+  // The state is all there is: a copy set to it continues alike.
+  AbsorbingLaw b(nullptr, nullptr, gain, delay, tau, limit);
+  b.unpack(a.packed().data());
+  for (double s : {0.0, 0.005, 0.01}) {
+    EXPECT_EQ(b.at(t + s).value, a.at(t + s).value);
+    EXPECT_EQ(b.at(t + s).rate, a.at(t + s).rate);
+  }
+  for (double s : {0.001, 0.002}) {
+    a.observe(t + s, 0.011);
+    b.observe(t + s, 0.011);
+    EXPECT_EQ(b.packed(), a.packed());
+  }
+  t += 0.002;
+  // A level held 1 cm up for long: the error's mean follows it and the piston returns to its target.
+  double furthest = 0.0;
+  for (int k = 0; k < 40000; ++k) {
+    a.observe(t += 0.001, 0.013);
+    furthest = std::max(furthest, std::abs(a.at(t).value));
+  }
+  EXPECT_NEAR(a.state().mean_error, 0.013, 1e-6);
+  EXPECT_GT(furthest, 0.005);
+  EXPECT_LT(std::abs(a.at(t).value), 0.01 * furthest);
+  // A level far down for long: the piston stops at its limit (at rest there).
+  AbsorbingLaw c(nullptr, nullptr, gain, delay, 100.0, limit);
+  c.observe(0.0, 0.0);
+  for (int k = 1; k <= 100; ++k) c.observe(0.01 * k, -0.05);
+  EXPECT_EQ(c.at(1.5).value, limit);
+  EXPECT_EQ(c.at(1.5).rate, 0.0);
+  EXPECT_DOUBLE_EQ(c.largest_magnitude(10.0), limit);
+  EXPECT_THROW(AbsorbingLaw(nullptr, nullptr, 0.0, delay, tau, limit), MotionError);
+  EXPECT_THROW(AbsorbingLaw(nullptr, nullptr, gain, delay, tau, 0.0), MotionError);
+}
+
+// An absorbing wave maker: its law is the wave maker's while the surface in front of it is the
+// target's (the first-order wave (H/2) cos(omega t - k s) there, for the displacement (S/2) sin(omega
+// t)), and its target elevation is that wave's.
+TEST(ActiveAbsorption, AnAbsorbingPistonFollowsItsTargetWhileTheSurfaceIsTheTargets) {
+  Region paddle;
+  paddle.translation.law = MotionLawType::wave;
+  paddle.translation.direction = {1.0, 0.0, 0.0};
+  paddle.translation.height = 0.08;
+  paddle.translation.period = 1.2;
+  paddle.translation.depth = 0.4;
+  paddle.translation.ramp = 2.0;
+  const RigidMotion<2> plain = rigid_motion_of<2>(paddle);
+  paddle.translation.absorb = true;
+  const double s = 0.1;
+  const RigidMotion<2> absorbing = rigid_motion_of<2>(paddle, 9.81, s);
+  ASSERT_TRUE(absorbing.absorber);
+  EXPECT_EQ(absorbing.translation.get(), absorbing.absorber.get());
+  EXPECT_EQ(absorbing.gauge_distance, s);
+  const double omega = 2.0 * std::numbers::pi / 1.2, k = waves::wavenumber(omega, 0.4, 9.81);
+  AbsorbingLaw& law = *absorbing.absorber;
+  for (double t : {2.5, 3.1}) EXPECT_NEAR(law.target_elevation(t), 0.04 * std::cos(omega * t - k * s), 1e-15);
+  // Defaults: drawn back over 4 periods, within the half-stroke.
+  EXPECT_NEAR(law.limit(), 0.5 * 0.08 / waves::piston_height_per_stroke(k * 0.4), 1e-12);
+  for (double t = 0.0; t < 6.0; t += 0.001) {
+    law.observe(t, law.target_elevation(t));
+    EXPECT_EQ(law.at(t).value, plain.translation->at(t).value) << t;
+    EXPECT_EQ(law.at(t).rate, plain.translation->at(t).rate) << t;
+  }
+}
+
 // A flap's wave law: the angle -atan(X / (h - hinge)) of the displacement X = (S/2) sin(omega t) that
 // the flap's transfer function asks of its face at the still-water level; its rates and accelerations
 // are exact, and its top swings to +x first (in 2D, a negative angle about z).

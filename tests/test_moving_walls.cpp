@@ -19,6 +19,7 @@
 #include "sluice/case/load.hpp"
 #include "sluice/case/overrides.hpp"
 #include "sluice/case/params.hpp"
+#include "sluice/geometry/motion.hpp"
 #include "sluice/io/checkpoint.hpp"
 #include "sluice/io/frames.hpp"
 #include "sluice/io/run.hpp"
@@ -167,6 +168,77 @@ TEST(MovingWalls, RestartAndThreadCountGiveTheSameBits) {
     ASSERT_EQ(other->clock().step, one.clock().step);
     const auto got = state(*other);
     ASSERT_EQ(got.size(), expected.size());
+    std::size_t differ = 0;
+    for (std::size_t id = 0; id < got.size(); ++id) differ += got[id] != expected[id];
+    EXPECT_EQ(differ, 0u) << (other == &two ? "two threads" : "restarted");
+  }
+}
+
+// An absorbing piston moves by what it measures: a restart from a checkpoint (which keeps its state)
+// and two threads continue a run in which it has moved bit for bit; the checkpoint holds its state.
+TEST(MovingWalls, AnAbsorbingPistonRestartsAndThreadsGiveTheSameBits) {
+  const Case c = parse_case(R"(
+[domain]
+dx = 0.04
+kernel = "wendland_c2"
+[tank]
+width = 2.5
+height = 0.7
+[fluid]
+sound_speed = 22.0
+[time]
+end = 0.6
+[[water]]
+min = [0.12, 0.0]
+max = [2.3, 0.4]
+[[wall]]
+name = "piston"
+min = [0.04, 0.0]
+max = [0.12, 0.65]
+[wall.translation]
+law = "wave"
+direction = [1.0, 0.0]
+height = 0.08
+period = 1.2
+depth = 0.4
+ramp = 0.25
+absorb = true
+[[wall]]
+name = "end"
+min = [2.3, 0.0]
+max = [2.38, 0.65]
+[wall.translation]
+law = "absorber"
+direction = [-1.0, 0.0]
+depth = 0.4
+)", "absorbing.toml");
+  Simulation one(c, 1), two(c, 2);
+  while (one.time() < 0.3) one.step(0.3);
+  const std::string saved = checkpoint_bytes(one, 1.0);
+  ASSERT_EQ(one.clock().absorbers.size(), 2 * AbsorbingLaw::state_size);
+  while (one.time() < c.end_time) one.step(c.end_time);
+  while (two.time() < 0.3) two.step(0.3);
+  while (two.time() < c.end_time) two.step(c.end_time);
+  Checkpoint cp = parse_checkpoint(saved, "absorbing.bin");
+  EXPECT_EQ(cp.clock.absorbers.size(), 2 * AbsorbingLaw::state_size);
+  Simulation again(cp.config, std::move(cp.particles), cp.clock, 1);
+  while (again.time() < c.end_time) again.step(c.end_time);
+  // The end absorber has moved off its start by the correction alone (its target is rest).
+  const auto& state = one.clock().absorbers;
+  EXPECT_NE(state[AbsorbingLaw::state_size + 1], 0.0);
+  EXPECT_NE(state[AbsorbingLaw::state_size + 2], 0.0);
+  const auto by_id = [](const Simulation& sim) {
+    const auto& p = sim.particles<2>();
+    std::vector<std::array<double, 5>> v(p.size());
+    for (std::size_t i = 0; i < p.size(); ++i)
+      v[p.id[i]] = {p.position[0][i], p.position[1][i], p.velocity[0][i], p.velocity[1][i], p.density[i]};
+    return v;
+  };
+  const auto expected = by_id(one);
+  for (const Simulation* other : {&two, &again}) {
+    ASSERT_EQ(other->clock().step, one.clock().step);
+    EXPECT_EQ(other->clock().absorbers, one.clock().absorbers) << (other == &two ? "two threads" : "restarted");
+    const auto got = by_id(*other);
     std::size_t differ = 0;
     for (std::size_t id = 0; id < got.size(); ++id) differ += got[id] != expected[id];
     EXPECT_EQ(differ, 0u) << (other == &two ? "two threads" : "restarted");
@@ -532,6 +604,19 @@ TEST(MovingWalls, AWallLeavingTheTankIsRefusedAtSetUp) {
         << message;
   }
   EXPECT_NO_THROW(Simulation(builtin("gate_dam_break", {"domain.dx=0.02"}), 1));
+  // An absorbing piston needs room for its correction as well: wave_beach's piston has 12 cm behind it,
+  // which its stroke and the default limit (its half-stroke) fit; twice the limit does not.
+  const Case beach = builtin("wave_beach", {"domain.dx=0.04", "wall[0].translation.absorption_limit=0.1"});
+  try {
+    Simulation sim(beach, 1);
+    FAIL() << "an absorbing piston without room for its correction was accepted";
+  } catch (const CaseError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("wall 1 (piston) leaves the tank through the wall at the low end of x"), std::string::npos)
+        << message;
+    EXPECT_NE(message.find("absorption_limit (0.1 m)"), std::string::npos) << message;
+  }
+  EXPECT_NO_THROW(Simulation(builtin("wave_beach", {"domain.dx=0.04"}), 1));
 }
 
 // A moving wall that starts inside another wall is refused, naming both; one that touches another

@@ -158,7 +158,7 @@ std::string format_window(const std::optional<Window>& w) {
 // The first-harmonic height 2 A1 relative to the target, in percent; nan without a target.
 double height_error_percent(const FlumeAnalysis& a, const GaugeWaves& g) {
   if (!g.harmonics || !(a.wave.height > 0.0)) return std::nan("");
-  return 100.0 * (2.0 * g.harmonics->amplitude[0] / a.wave.height - 1.0);
+  return 100.0 * (2.0 * g.harmonics->amplitude[0] / (a.wave.height * g.shoaling) - 1.0);
 }
 
 // The first harmonic's amplitude against the measured one, in percent, and how far its phase runs
@@ -239,7 +239,10 @@ FlumeAnalysis analyze_flume(const fs::path& run_dir, const Case& c, const FlumeO
         0.25 * w.k * amplitude * amplitude * std::cosh(kh) * (2.0 + std::cosh(2.0 * kh)) / (sh * sh * sh);
   }
   a.still_level = w.depth;
-  if (!c.damps()) a.reflector = c.tank_size()[0] - w.maker_x;
+  // The far end reflects the waves back unless a damping zone or an absorbing piston takes them.
+  const bool absorber = std::any_of(c.walls.begin(), c.walls.end(),
+                                    [](const Region& wall) { return wall.translation.law == MotionLawType::absorber; });
+  if (!c.damps() && !absorber) a.reflector = c.tank_size()[0] - w.maker_x;
 
   std::vector<double> decay_x, decay_a;
   for (std::size_t i = 0; i < gauges.size(); ++i) {
@@ -253,6 +256,14 @@ FlumeAnalysis analyze_flume(const fs::path& run_dir, const Case& c, const FlumeO
     gw.eta = s;
     for (double& y : gw.eta.y) y -= still;
     gw.theory_phase = std::fmod(w.omega * w.start + w.k * gw.distance, two_pi);
+    // A gauge standing over another depth than the maker's (by more than 5 %): over a beach.
+    gw.depth = still - gauges[i]->point[c.dimension - 1];
+    if (w.depth > 0.0 && std::abs(gw.depth - w.depth) > 0.05 * w.depth && gw.depth > 0.0) {
+      gw.other_depth = true;
+      const double cg = waves::regular_wave(std::max(w.height, 1e-12), w.period, gw.depth, g).group_velocity;
+      gw.shoaling = std::sqrt(w.group_velocity / cg);
+      gw.theory_phase = std::nan("");
+    }
     const bool in_zone = c.damps() && (gw.x - c.damping_start[0]) * c.damping_direction[0] > 0.0;
     gw.window = options.window ? options.window
                                : steady_window(gw.distance, w.start, w.ramp_time, w.group_velocity, w.period,
@@ -289,7 +300,10 @@ FlumeAnalysis analyze_flume(const fs::path& run_dir, const Case& c, const FlumeO
       }
     }
     if (in_zone && gw.note.empty()) gw.note = "in the damping zone";
-    if (gw.harmonics && !in_zone && gw.distance > 0.0) {
+    if (gw.other_depth && gw.note.empty())
+      gw.note = fmt::format("over {:.3g} m of water: against the target shoaled by linear theory, Ks = {:.3f}", gw.depth,
+                            gw.shoaling);
+    if (gw.harmonics && !in_zone && !gw.other_depth && gw.distance > 0.0) {
       decay_x.push_back(gw.distance);
       decay_a.push_back(gw.harmonics->amplitude[0]);
     }
@@ -302,7 +316,7 @@ FlumeAnalysis analyze_flume(const fs::path& run_dir, const Case& c, const FlumeO
   std::optional<Window> common = options.window;
   std::vector<const GaugeWaves*> used;
   for (const auto& gw : a.gauges)
-    if (gw.harmonics && gw.distance > 0.0 && gw.note.empty()) used.push_back(&gw);
+    if (gw.harmonics && gw.distance > 0.0 && gw.note.empty() && !gw.other_depth) used.push_back(&gw);
   if (!common && used.size() >= 2) {
     // From the last gauge's start to the first end (the run's, or a reflection's return), before the
     // windows were cut to whole periods.
@@ -404,22 +418,24 @@ std::string gauges_csv(const FlumeAnalysis& a) {
       "gauge,x,distance,distance_over_wavelength,t0,t1,zero_crossing_height,zero_crossing_period,waves,"
       "first_harmonic_amplitude,first_harmonic_phase,second_harmonic_amplitude,second_harmonic_phase,mean,"
       "target_height,theory_phase,phase_lag_degrees,measured_first_harmonic_amplitude,measured_first_harmonic_phase,"
-      "measured_second_harmonic_amplitude,first_harmonic_error_vs_measured_percent,phase_lag_behind_measured_degrees\n";
+      "measured_second_harmonic_amplitude,first_harmonic_error_vs_measured_percent,phase_lag_behind_measured_degrees,"
+      "still_depth,shoaling_coefficient\n";
   for (const auto& g : a.gauges) {
     auto v = [](bool has, double x) { return has ? fmt::format("{}", x) : std::string(); };
     const bool h = g.harmonics.has_value(), z = g.zero_crossing.has_value(), win = g.window.has_value();
     const bool m = g.measured_harmonics.has_value();
-    s += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", g.name, g.x, g.distance,
+    const bool phased = std::isfinite(g.theory_phase);
+    s += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", g.name, g.x, g.distance,
                      g.distance / a.wave.wavelength, v(win, win ? g.window->t0 : 0), v(win, win ? g.window->t1 : 0),
                      v(z, z ? g.zero_crossing->mean_height : 0), v(z, z ? g.zero_crossing->mean_period : 0),
                      v(z, z ? static_cast<double>(g.zero_crossing->waves) : 0), v(h, h ? g.harmonics->amplitude[0] : 0),
                      v(h, h ? g.harmonics->phase[0] : 0), v(h, h ? g.harmonics->amplitude[1] : 0),
                      v(h, h ? g.harmonics->phase[1] : 0), v(h, h ? g.harmonics->mean : 0),
-                     v(a.wave.height > 0.0, a.wave.height), g.theory_phase,
-                     v(h, h ? wrapped_degrees(g.harmonics->phase[0] - g.theory_phase) : 0),
+                     v(a.wave.height > 0.0, a.wave.height * g.shoaling), v(phased, g.theory_phase),
+                     v(h && phased, h ? wrapped_degrees(g.harmonics->phase[0] - g.theory_phase) : 0),
                      v(m, m ? g.measured_harmonics->amplitude[0] : 0), v(m, m ? g.measured_harmonics->phase[0] : 0),
                      v(m, m ? g.measured_harmonics->amplitude[1] : 0), v(m, measured_error_percent(g)),
-                     v(m, measured_phase_lag(g)));
+                     v(m, measured_phase_lag(g)), g.depth, g.shoaling);
   }
   return s;
 }
@@ -466,7 +482,7 @@ Plot flume_gauge_plot(const FlumeAnalysis& a, const GaugeWaves& g) {
       }
     if (!m.empty()) p.series.push_back(curve("measured", m.t, m.y));
   }
-  if (a.wave.height > 0.0 && g.window) {
+  if (a.wave.height > 0.0 && g.window && std::isfinite(g.theory_phase)) {
     std::vector<double> t, y;
     for (double s = g.window->t0; s <= g.window->t1 + 1e-9; s += a.wave.period / 40.0) {
       t.push_back(s);

@@ -50,6 +50,12 @@ struct GaugeWaves {
   std::optional<ZeroCrossingWaves> zero_crossing;
   std::optional<Harmonics> harmonics;  // first and second
   double theory_phase = 0.0;       // of the first harmonic, linear theory from the maker's motion
+  // The still water's depth over the gauge's foot, and linear theory's shoaling coefficient
+  // Ks = sqrt(cg(h_maker) / cg(h_gauge)) for it: a gauge over another depth (a beach) is compared with
+  // the target's height times Ks, has no theory phase (that depends on the bed between), and stays
+  // out of the decay and the reflection.
+  double depth = 0.0, shoaling = 1.0;
+  bool other_depth = false;
   std::string note;                // why a measurement is missing
   // The laboratory's series for this gauge (the record's column named as the gauge, "WP_1" or
   // "WP_1 [m]"), on the run's time, its still level removed; and its harmonics over the same window.

@@ -49,9 +49,9 @@ enum class GaugeMeasure { highest, column, surface };
 inline constexpr std::array<std::string_view, 3> gauge_measure_names = {"highest", "column", "surface"};
 
 // A wall's prescribed motion: a law for its translation and one for its rotation (geometry/motion.hpp).
-enum class MotionLawType { none, linear, polynomial, sinusoidal, file, wave };
-inline constexpr std::array<std::string_view, 6> motion_law_names = {"none",       "linear", "polynomial",
-                                                                      "sinusoidal", "file",   "wave"};
+enum class MotionLawType { none, linear, polynomial, sinusoidal, file, wave, absorber };
+inline constexpr std::array<std::string_view, 7> motion_law_names = {"none", "linear", "polynomial", "sinusoidal",
+                                                                      "file", "wave",   "absorber"};
 enum class AfterMotion { hold, continue_ };
 inline constexpr std::array<std::string_view, 2> after_motion_names = {"hold", "continue"};
 enum class PastFileEnd { error, hold };
@@ -93,6 +93,13 @@ struct MotionLawSpec {
   WaveSpectrum spectrum = WaveSpectrum::regular;
   double significant_height = 0.0, peak_period = 0.0, gamma = 3.3;
   int components = 200, seed = 1;
+  // Active absorption (a piston: law = "wave" with absorb = true, or law = "absorber", which only
+  // absorbs): the piston's velocity corrected by sqrt(g/depth) times the difference between the
+  // surface measured in front of it and the target's, the correction drawn back over
+  // `absorption_time` (0: 4 periods, or 20 sqrt(depth/g) for an absorber) and held within
+  // +-`absorption_limit` (0: the target's half-stroke, or depth/4 for an absorber).
+  bool absorb = false;
+  double absorption_time = 0.0, absorption_limit = 0.0;
   std::shared_ptr<const MotionSeries> series;  // file: the series read (set by the loader, not a key)
 };
 

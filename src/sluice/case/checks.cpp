@@ -324,6 +324,11 @@ struct Checker {
       if (w.name == "tank" || w.name == "water")
         fail(fmt::format("wall[{}].name = {}: that name belongs to the {} (bodies/{}.csv); expected another name", i,
                          quote(w.name), w.name == "tank" ? "tank's own walls" : "water", w.name));
+      const bool absorbs = w.translation.law == MotionLawType::absorber || (w.translation.absorb && w.translation.law == MotionLawType::wave);
+      if (absorbs && w.rotation.law != MotionLawType::none)
+        fail(fmt::format("wall[{}] ({}) absorbs waves and turns: an absorbing piston only translates; expected no "
+                         "[wall.rotation] on it",
+                         i, quote(w.name)));
       // A wall fixed in space inside a tank that moves would cut through the tank's walls or its water.
       if (c.tank_moves() && !w.moves())
         fail(fmt::format("wall[{}] ({}) is fixed while the tank moves; expected it to move with the tank (give it "
@@ -350,6 +355,7 @@ struct Checker {
                          "as the paddle (a piston or a flap) inside the tank",
                          key));
       if (m.law == MotionLawType::wave) check_wave_maker(m, key, rotation);
+      if (m.law == MotionLawType::absorber || m.absorb) check_absorber(m, key, rotation);
       if (m.law == MotionLawType::polynomial && m.coefficients.empty())
         fail(fmt::format("{}.coefficients is empty: a polynomial law needs them; expected [c0, c1, ...]", key));
     });
@@ -390,6 +396,32 @@ struct Checker {
     if (m.order != 1)
       fail(fmt::format("{}.order = {}: second-order generation is for a piston; expected order = 1 for a flap", key,
                        m.order));
+  }
+
+  // An absorbing piston: a wall's translation, horizontal, on water of a given depth; it does not turn.
+  void check_absorber(const MotionLawSpec& m, const std::string& key, bool rotation) const {
+    const std::string what = m.law == MotionLawType::absorber ? "law = \"absorber\"" : "absorb = true";
+    if (key.rfind("tank.", 0) == 0)
+      fail(fmt::format("{}.{}: the tank cannot absorb waves; expected a [[wall]] as the absorbing piston inside the "
+                       "tank",
+                       key, what));
+    if (rotation)
+      fail(fmt::format("{}.{}: active absorption is for a piston; expected it on the wall's translation (a flap "
+                       "cannot absorb)",
+                       key, what));
+    if (!(m.depth > 0.0)) fail(fmt::format("{}.depth = {} m: expected the still water's depth at the piston, > 0", key, m.depth));
+    const int up = c.dimension - 1;
+    double length = 0.0;
+    for (int d = 0; d < c.dimension; ++d) length += m.direction[d] * m.direction[d];
+    if (length > 0.0 && std::abs(m.direction[up]) > 1e-9 * std::sqrt(length))
+      fail(fmt::format("{}.direction = {}: an absorbing piston moves horizontally; expected a direction with no "
+                       "vertical component, into the water",
+                       key, format_vector(m.direction, c.dimension)));
+    if (!(m.absorption_time >= 0.0))
+      fail(fmt::format("{}.absorption_time = {} s: expected a time > 0, or 0 for the default", key, m.absorption_time));
+    if (!(m.absorption_limit >= 0.0))
+      fail(fmt::format("{}.absorption_limit = {} m: expected a length > 0, or 0 for the default", key,
+                       m.absorption_limit));
   }
 
   // Irregular waves from a JONSWAP spectrum: its figures in range, first order, a ramp that starts the

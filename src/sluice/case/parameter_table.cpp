@@ -298,6 +298,9 @@ bool is_wave(const MotionLawSpec& m) { return law_is(m, MotionLawType::wave); }
 bool is_regular_wave(const MotionLawSpec& m) { return is_wave(m) && m.spectrum == WaveSpectrum::regular; }
 bool is_jonswap(const MotionLawSpec& m) { return is_wave(m) && m.spectrum == WaveSpectrum::jonswap; }
 bool is_periodic(const MotionLawSpec& m) { return is_sinusoidal(m) || is_wave(m); }
+bool is_absorber(const MotionLawSpec& m) { return law_is(m, MotionLawType::absorber); }
+bool needs_depth(const MotionLawSpec& m) { return is_wave(m) || is_absorber(m); }
+bool absorbs(const MotionLawSpec& m) { return is_absorber(m) || (is_wave(m) && m.absorb); }
 bool has_period(const MotionLawSpec& m) { return is_sinusoidal(m) || is_regular_wave(m); }
 bool has_interval(const MotionLawSpec& m) { return is_linear(m) || is_polynomial(m); }
 bool has_start(const MotionLawSpec& m) { return has_interval(m) || is_periodic(m); }
@@ -318,7 +321,8 @@ std::vector<Param<MotionLawSpec>> law_params(bool rotation) {
                       "at `centre` (its height above the floor), its angle -atan(X / (depth - hinge)) for the "
                       "displacement X = (S/2) sin(omega t) at the still-water level, so that its top swings first "
                       "along up x axis: towards +x in 2D); with spectrum = \"jonswap\", irregular waves: the sum "
-                      "of such motions for the components of a JONSWAP spectrum).",
+                      "of such motions for the components of a JONSWAP spectrum); absorber (a piston at rest that "
+                      "absorbs the waves arriving at it by active absorption: a translation only).",
                       what)),
   };
   if (rotation) {
@@ -359,8 +363,9 @@ std::vector<Param<MotionLawSpec>> law_params(bool rotation) {
       used_by(is_regular_wave, declare("height", &MotionLawSpec::height, "m", 0.0, 1e-9, inf,
                                        "Wave (regular): the height H (crest to trough) of the waves the wave maker "
                                        "makes.")),
-      used_by(is_wave, declare("depth", &MotionLawSpec::depth, "m", 0.0, 1e-9, inf,
-                               "Wave: the still water's depth h at the wave maker, which the theory needs.")),
+      used_by(needs_depth, declare("depth", &MotionLawSpec::depth, "m", 0.0, 1e-9, inf,
+                                   "Wave, absorber: the still water's depth h at the wave maker or absorber, which the theory "
+                                   "needs.")),
       optional_for(is_wave, declare("order", &MotionLawSpec::order, "", 1, 1, 2,
                                     "Wave: 1, the first-order motion (S/2) sin(omega t); 2 (a piston), with Madsen's "
                                     "(1971) second-order term at 2 omega, which cancels the free second harmonic the "
@@ -387,6 +392,18 @@ std::vector<Param<MotionLawSpec>> law_params(bool rotation) {
       optional_for(is_jonswap, declare("seed", &MotionLawSpec::seed, "", 1, 0.0, 2147483647.0,
                                        "Wave (jonswap): the seed of the components' random phases (the same seed "
                                        "makes the same waves on every machine).")),
+      optional_for(is_wave, declare("absorb", &MotionLawSpec::absorb, "", false, unbounded_lower, unbounded_upper,
+                                    "Wave, a piston (translation): active absorption, the piston's velocity corrected "
+                                    "by -sqrt(g/h) times the difference between the surface measured in front of "
+                                    "it and the target wave's there, so that waves coming back to it are not "
+                                    "reflected again (docs/waves.md).")),
+      optional_for(absorbs, declare("absorption_time", &MotionLawSpec::absorption_time, "s", 0.0, 0.0, inf,
+                                    "Absorbing piston: the time over which the correction's mean is removed and the "
+                                    "piston drawn back to its target (0: 4 periods, 4 peak periods, or 20 "
+                                    "sqrt(h/g) for an absorber alone).")),
+      optional_for(absorbs, declare("absorption_limit", &MotionLawSpec::absorption_limit, "m", 0.0, 0.0, inf,
+                                    "Absorbing piston: the largest correction of its displacement (0: half the "
+                                    "target's stroke, or h/4 for an absorber alone); the tank must leave it room.")),
       used_by(is_file, declare("file", &MotionLawSpec::file, "", std::string(""), unbounded_lower, unbounded_upper,
                                "File: a CSV with a header line; a relative path is relative to the case file's "
                                "directory.")),

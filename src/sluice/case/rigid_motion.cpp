@@ -46,6 +46,49 @@ std::shared_ptr<const ScalarLaw> wave_maker_displacement(const MotionLawSpec& m,
       first, std::make_shared<SinusoidalLaw>(m.gain * second, 0.5 * m.period, 0.0, m.start, 2.0 * m.ramp));
 }
 
+// The elevation the wave maker's target wave has at `s` in front of its face, by first-order theory
+// (for order 2 with Stokes' bound second harmonic): a displacement (S/2) sin(omega tau + phi) makes
+// the wave a cos(omega tau + phi - k s), a = (H/S)(S/2), ramped as the paddle is.
+std::shared_ptr<const ScalarLaw> target_elevation(const MotionLawSpec& m, double g, double s) {
+  constexpr double quarter = 0.5 * std::numbers::pi;
+  std::vector<SineSumLaw::Term> terms;
+  if (m.spectrum == WaveSpectrum::jonswap) {
+    const waves::IrregularSea sea = waves::jonswap_sea(m.significant_height, m.peak_period, m.gamma, m.components,
+                                                       static_cast<std::uint64_t>(m.seed));
+    for (const waves::WaveComponent& c : sea.components) {
+      const double omega = 2.0 * std::numbers::pi * c.frequency;
+      const double k = waves::wavenumber(omega, m.depth, g);
+      terms.push_back({m.gain * c.amplitude, omega, c.phase - k * s + quarter});
+    }
+    return std::make_shared<SineSumLaw>(std::move(terms), m.start, m.ramp * m.peak_period, 1.0 / sea.df);
+  }
+  const double omega = 2.0 * std::numbers::pi / m.period;
+  const double k = waves::wavenumber(omega, m.depth, g), kh = k * m.depth, a = 0.5 * m.gain * m.height;
+  terms.push_back({a, omega, -k * s + quarter});
+  if (m.order == 2) {
+    const double sh = std::sinh(kh);
+    const double a2 = 0.25 * k * a * a * std::cosh(kh) * (2.0 + std::cosh(2.0 * kh)) / (sh * sh * sh);
+    terms.push_back({a2, 2.0 * omega, -2.0 * k * s + quarter});
+  }
+  return std::make_shared<SineSumLaw>(std::move(terms), m.start, m.ramp * m.period, m.period);
+}
+
+// An absorbing piston's law: the wave maker's displacement (none for an absorber alone) corrected by
+// the surface measured `s` in front of it.
+std::shared_ptr<AbsorbingLaw> absorbing_law(const MotionLawSpec& m, double g, double s) {
+  const bool alone = m.law == MotionLawType::absorber;
+  std::shared_ptr<const ScalarLaw> target = alone ? nullptr : wave_maker_displacement(m, -2.0);
+  std::shared_ptr<const ScalarLaw> elevation = alone ? nullptr : target_elevation(m, g, s);
+  const double period = m.spectrum == WaveSpectrum::jonswap ? m.peak_period : m.period;
+  const double tau = m.absorption_time > 0.0 ? m.absorption_time
+                     : alone                 ? 20.0 * std::sqrt(m.depth / g)
+                                             : 4.0 * period;
+  double limit = m.absorption_limit;
+  if (!(limit > 0.0)) limit = alone ? 0.25 * m.depth : target->largest_magnitude(m.start + (m.ramp + 1.0) * period);
+  return std::make_shared<AbsorbingLaw>(std::move(target), std::move(elevation), std::sqrt(g / m.depth),
+                                        s / std::sqrt(g * m.depth), tau, limit);
+}
+
 // One law as a function of time, its values multiplied by `unit` (pi/180 for a rotation's degrees).
 // `hinge`: for a rotation, the height of its centre above the floor (a flap's hinge); -2 for a translation.
 std::shared_ptr<const ScalarLaw> law_of(const MotionLawSpec& m, double unit, double hinge) {
@@ -66,6 +109,7 @@ std::shared_ptr<const ScalarLaw> law_of(const MotionLawSpec& m, double unit, dou
       if (hinge > -1.0) return std::make_shared<FlapLaw>(displacement, m.depth - hinge);
       return displacement;
     }
+    case MotionLawType::absorber: return nullptr;  // rigid_motion_of makes it (it needs g and where to measure)
     case MotionLawType::file: {
       std::vector<double> v = m.series->values;
       for (double& y : v) y *= unit;
@@ -88,9 +132,16 @@ Vec<Dim> unit_vector(const Vec3& v) {
 }  // namespace
 
 template <int Dim>
-RigidMotion<Dim> rigid_motion_of(const Region& wall) {
+RigidMotion<Dim> rigid_motion_of(const Region& wall, double g, double gauge_distance) {
   RigidMotion<Dim> motion;
-  motion.translation = law_of(wall.translation, 1.0, -2.0);
+  const MotionLawSpec& t = wall.translation;
+  if (t.law == MotionLawType::absorber || (t.law == MotionLawType::wave && t.absorb)) {
+    motion.absorber = absorbing_law(t, g, gauge_distance);
+    motion.gauge_distance = gauge_distance;
+    motion.translation = motion.absorber;
+  } else {
+    motion.translation = law_of(t, 1.0, -2.0);
+  }
   if (motion.translation) motion.direction = unit_vector<Dim>(wall.translation.direction);
   motion.rotation = law_of(wall.rotation, std::numbers::pi / 180.0, wall.rotation.centre[Dim - 1]);
   if (motion.rotation) {
@@ -100,7 +151,7 @@ RigidMotion<Dim> rigid_motion_of(const Region& wall) {
   return motion;
 }
 
-template RigidMotion<2> rigid_motion_of<2>(const Region&);
-template RigidMotion<3> rigid_motion_of<3>(const Region&);
+template RigidMotion<2> rigid_motion_of<2>(const Region&, double, double);
+template RigidMotion<3> rigid_motion_of<3>(const Region&, double, double);
 
 }  // namespace sluice

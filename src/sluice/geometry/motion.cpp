@@ -147,6 +147,95 @@ LawValue TableLaw::at(double t) const {
   return {value, rate, a * m_[i] + b * m_[i + 1]};
 }
 
+AbsorbingLaw::AbsorbingLaw(std::shared_ptr<const ScalarLaw> target, std::shared_ptr<const ScalarLaw> target_elevation,
+                           double gain, double delay, double time_constant, double limit)
+    : target_(std::move(target)),
+      elevation_(std::move(target_elevation)),
+      gain_(gain),
+      delay_(delay),
+      spacing_(delay / static_cast<double>(history - 2)),
+      tau_(time_constant),
+      limit_(limit) {
+  if (!(gain > 0.0) || !std::isfinite(gain)) throw MotionError(fmt::format("an absorber's gain {} is not positive", gain));
+  if (!(delay >= 0.0) || !std::isfinite(delay)) throw MotionError(fmt::format("an absorber's delay {} s is negative", delay));
+  if (!(time_constant > 0.0) || !std::isfinite(time_constant))
+    throw MotionError(fmt::format("an absorber's time constant {} s is not positive", time_constant));
+  if (!(limit > 0.0) || !std::isfinite(limit)) throw MotionError(fmt::format("an absorber's limit {} m is not positive", limit));
+}
+
+double AbsorbingLaw::offset_at(double t) const {
+  return std::clamp(state_.offset + state_.rate * (t - state_.time), -limit_, limit_);
+}
+
+LawValue AbsorbingLaw::at(double t) const {
+  LawValue v = target_ ? target_->at(t) : LawValue{};
+  const double x = offset_at(t);
+  v.value += x;
+  // Held at the limit, the correction rests.
+  if (std::abs(x) < limit_) v.rate += state_.rate;
+  return v;
+}
+
+double AbsorbingLaw::largest_magnitude(double end) const {
+  return (target_ ? target_->largest_magnitude(end) : 0.0) + limit_;
+}
+
+double AbsorbingLaw::target_elevation(double t) const { return elevation_ ? elevation_->at(t).value : 0.0; }
+
+void AbsorbingLaw::observe(double t, double elevation) {
+  const double x = offset_at(t);
+  const double error = elevation - target_elevation(t);
+  State& s = state_;
+  const bool first = s.observed == 0.0;
+  const double since = first ? 0.0 : t - s.time;
+  if (first) {
+    // The first observation is the level the run starts from: the correction starts at rest there,
+    // and the past is taken to have been the same.
+    s.observed = 1.0;
+    s.newest = t;
+    s.past.fill(error);
+  } else if (spacing_ > 0.0) {
+    // The past errors on their grid, linear between the last observation and this one.
+    while (s.newest + spacing_ <= t) {
+      s.newest += spacing_;
+      const double w = (s.newest - s.time) / (t - s.time);
+      std::copy_backward(s.past.begin(), s.past.end() - 1, s.past.end());
+      s.past[0] = s.error + w * (error - s.error);
+    }
+  }
+  s.time = t;
+  s.error = error;
+  // e at t - delay: newer than the oldest kept sample, older than the newest (t - newest < spacing).
+  double delayed = error;
+  if (spacing_ > 0.0) {
+    const double back = (s.newest - (t - delay_)) / spacing_;
+    const auto k = std::min(static_cast<std::size_t>(std::max(0.0, std::floor(back))), history - 2);
+    const double f = std::clamp(back - static_cast<double>(k), 0.0, 1.0);
+    delayed = s.past[k] + f * (s.past[k + 1] - s.past[k]);
+  }
+  s.mean_error = first ? delayed : s.mean_error + std::min(1.0, since / tau_) * (delayed - s.mean_error);
+  s.offset = x;
+  s.rate = -gain_ * (delayed - s.mean_error) - x / tau_;
+}
+
+std::array<double, AbsorbingLaw::state_size> AbsorbingLaw::packed() const {
+  std::array<double, state_size> v{state_.time,  state_.offset, state_.rate,  state_.mean_error,
+                                   state_.observed, state_.error, state_.newest};
+  std::copy(state_.past.begin(), state_.past.end(), v.begin() + 7);
+  return v;
+}
+
+void AbsorbingLaw::unpack(const double* v) {
+  state_.time = v[0];
+  state_.offset = v[1];
+  state_.rate = v[2];
+  state_.mean_error = v[3];
+  state_.observed = v[4];
+  state_.error = v[5];
+  state_.newest = v[6];
+  std::copy(v + 7, v + state_size, state_.past.begin());
+}
+
 double TableLaw::largest_magnitude(double end) const {
   double largest = ScalarLaw::largest_magnitude(end);
   for (const double y : y_) largest = std::max(largest, std::abs(y));

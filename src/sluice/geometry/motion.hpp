@@ -156,6 +156,62 @@ class FlapLaw final : public ScalarLaw {
   double arm_;
 };
 
+// Active absorption at a piston (Schaffer & Klopman 2000): its displacement is its target's (the wave
+// maker's law; none for an absorber alone) plus a correction X_c driven by the surface measured a
+// distance s in front of it. After each observation at time t_n of the elevation eta there (from the
+// still level), the correction's rate until the next is
+//   U_c = -sqrt(g/h) (e(t_n - s/c) - e_mean) - X_c / tau,     e = eta - eta_target(s, t),
+// the shallow-water absorber: a wave arriving at the piston moves its water at -sqrt(g/h) eta along the
+// piston's direction, and a piston that moves with it sends nothing back. The error is taken `delay`
+// = s/c earlier (c = sqrt(g h)), when the arriving wave passed the gauge on its way to the piston:
+// taken when measured, it would lead the piston's water by k s, which at kh = 1.3 and s = 0.1 m alone
+// reflects about 16 % of the wave. e_mean, e's mean over about tau (an exponential average), keeps a
+// slow change of the mean level from walking the piston away, and -X_c / tau draws it back to its
+// target over tau. Between observations the rate is held, so the value is continuous and the
+// correction adds no acceleration; |X_c| stays within `limit` (the rate is 0 while it is held there).
+// The past errors are kept at `history` times `delay` / (history - 2) apart. The value at any time is a
+// function of the observations alone, which a checkpoint keeps (state(), set_state()).
+class AbsorbingLaw final : public ScalarLaw {
+ public:
+  static constexpr std::size_t history = 10;
+  struct State {
+    double time = 0.0;        // of the last observation
+    double offset = 0.0;      // X_c then
+    double rate = 0.0;        // U_c since then
+    double mean_error = 0.0;  // e_mean
+    double observed = 0.0;    // 1 once the first observation is made (its error starts e_mean)
+    double error = 0.0;       // e at the last observation
+    double newest = 0.0;      // the time of past[0]
+    std::array<double, history> past{};  // e at newest, newest - spacing, ...
+  };
+  static constexpr std::size_t state_size = 7 + history;
+  // `target`, `target_elevation`: laws of time, or null (an absorber alone: a target of rest and still
+  // water). `gain`: sqrt(g/h); `delay`: s / sqrt(g h) (s); `time_constant`: tau (s); `limit`: the
+  // largest |X_c| (m).
+  AbsorbingLaw(std::shared_ptr<const ScalarLaw> target, std::shared_ptr<const ScalarLaw> target_elevation, double gain,
+               double delay, double time_constant, double limit);
+  [[nodiscard]] LawValue at(double t) const override;
+  // The target's and the limit's: the correction may add up to `limit`.
+  [[nodiscard]] double largest_magnitude(double end) const override;
+  // The target's: the correction's reach is added to the swept space by the limit, not by sampling.
+  [[nodiscard]] double settled_after() const override { return target_ ? target_->settled_after() : 0.0; }
+  // The elevation measured in front of the piston at time t (at or after the last observation).
+  void observe(double t, double elevation);
+  [[nodiscard]] double target_elevation(double t) const;
+  [[nodiscard]] double limit() const { return limit_; }
+  [[nodiscard]] const State& state() const { return state_; }
+  void set_state(const State& s) { state_ = s; }
+  // The state as state_size numbers, and back (for a checkpoint).
+  [[nodiscard]] std::array<double, state_size> packed() const;
+  void unpack(const double* values);
+
+ private:
+  [[nodiscard]] double offset_at(double t) const;
+  std::shared_ptr<const ScalarLaw> target_, elevation_;
+  double gain_, delay_, spacing_, tau_, limit_;
+  State state_;
+};
+
 // A recorded series (times increasing) interpolated by a natural cubic spline: the value, rate and
 // acceleration are continuous, so the walls' acceleration (which mDBC and Adami's walls use) is
 // defined everywhere; linear interpolation would make it zero between samples and infinite at them.
@@ -201,6 +257,10 @@ struct RigidMotion {
   std::shared_ptr<const ScalarLaw> rotation;     // angle in radians, right-handed about `axis`
   Vec<3> axis{0.0, 0.0, 1.0};                    // unit vector (2D: z)
   Vec<Dim> centre{};                             // centre of rotation at the start
+  // An absorbing piston's translation (the same law as `translation`), which the solver feeds with the
+  // surface it measures `gauge_distance` in front of the piston's face; null for every other body.
+  std::shared_ptr<AbsorbingLaw> absorber;
+  double gauge_distance = 0.0;
 };
 
 // A body's pose and its rates at one time.

@@ -198,6 +198,8 @@ void write_checkpoint_bytes(const Simulation& sim, double wall_seconds, const By
     put(head, c.rates.min_fluid_distance);
   }
   put(head, c.outflow);
+  put<std::uint32_t>(head, static_cast<std::uint32_t>(c.absorbers.size()));
+  for (double v : c.absorbers) put(head, v);
   // Every process's particles, on the root (the other processes write nothing).
   sim.visit([&](const auto& solver) {
     solver.with_all_particles([&](const auto& p) {
@@ -282,6 +284,16 @@ Checkpoint parse_checkpoint(const std::string& bytes, const std::string& source)
   }
   // Versions 2 and 3 (before outflow) removed no particles.
   if (version >= 4) cp.clock.outflow = r.get<std::int64_t>();
+  // Version 6 keeps the absorbing pistons' states (before it there were none).
+  if (version >= 6) {
+    const auto n = r.get<std::uint32_t>();
+    if (n > 5 * 255) r.refuse(fmt::format("{} values of absorbing pistons' state, more than 255 walls hold", n));
+    for (std::uint32_t k = 0; k < n; ++k) {
+      const double v = r.get<double>();
+      if (!std::isfinite(v)) r.refuse(fmt::format("an absorbing piston's state value {} is not a finite number", v));
+      cp.clock.absorbers.push_back(v);
+    }
+  }
   // A run's clock starts at zero and only moves forward. A negative or non-finite time (possible only in
   // a crafted file, the CRC passing) made a restart step forever from t = -1e300 or run to "t = nan".
   // Counts stay far below the largest 64-bit integer, so that adding a run's steps and leaks to them

@@ -25,6 +25,7 @@
 #include "sluice/core/particles.hpp"
 #include "sluice/geometry/setup.hpp"
 #include "sluice/geometry/motion.hpp"
+#include "sluice/geometry/wave_theory.hpp"
 #include "sluice/geometry/moving_solid.hpp"
 #include "sluice/geometry/solid.hpp"
 #include "sluice/physics/wall_motion.hpp"
@@ -42,6 +43,10 @@ class Bodies {
     std::shared_ptr<MovingSolid<Dim>> solid;      // when it moves: its shape at the current pose
     std::uint32_t first_id = 0;                   // its particles' ids run from first_id, contiguous
     std::vector<Vec<Dim>> start;                  // when it moves: their positions at the start pose
+    // An absorbing piston: where the vertical line it measures the surface on stands at the start
+    // (on the floor, motion.gauge_distance in front of its face), and the still water's depth.
+    Vec<Dim> gauge_foot{};
+    double depth = 0.0;
   };
 
   Bodies() = default;
@@ -78,7 +83,11 @@ class Bodies {
       body.name = wall.name;
       if (!wall.moves()) continue;
       body.moves = true;
-      body.motion = rigid_motion_of<Dim>(wall);
+      // An absorbing piston measures the surface a kernel support and a spacing in front of its face,
+      // where the water's kernel sum is not cut by the piston's own particles.
+      const double g = norm(c.gravity) > 0.0 ? norm(c.gravity) : waves::kGravity;
+      body.motion = rigid_motion_of<Dim>(wall, g, 2.0 * c.smoothing_length() + c.dx);
+      body.depth = wall.translation.depth;
       std::shared_ptr<const Solid<Dim>>& shape = solids[solids.size() - walls + k];
       body.solid = std::make_shared<MovingSolid<Dim>>(shape);
       shape = body.solid;
@@ -97,6 +106,63 @@ class Bodies {
       Vec<Dim> x{};
       for (int d = 0; d < Dim; ++d) x[d] = built.position[d][i];
       body.start.push_back(x);
+    }
+    for (Body& body : bodies_) {
+      if (!body.motion.absorber || body.start.empty()) continue;
+      // The face: the furthest particle along the direction, half a spacing further; the line stands
+      // in front of it, across from the piston's centre, on the floor.
+      const Vec<Dim>& dir = body.motion.direction;
+      Vec<Dim> centre{};
+      double face = -std::numeric_limits<double>::infinity();
+      for (const Vec<Dim>& x : body.start) {
+        centre = centre + (1.0 / static_cast<double>(body.start.size())) * x;
+        face = std::max(face, dot(x, dir));
+      }
+      face += 0.5 * c.dx;
+      body.gauge_foot = centre + (face + body.motion.gauge_distance - dot(centre, dir)) * dir;
+      body.gauge_foot[Dim - 1] = 0.0;
+    }
+  }
+
+  // Whether a body is an absorbing piston, which the solver feeds with the surface in front of it.
+  [[nodiscard]] bool absorbs() const {
+    return std::any_of(bodies_.begin(), bodies_.end(), [](const Body& b) { return b.motion.absorber != nullptr; });
+  }
+  // Each absorbing piston observes the surface at time t (the bodies' time): `level(point)` gives the
+  // free surface's height on the vertical line from `point` up (every process calls it alike).
+  template <class Level>
+  void absorb(double t, Level&& level) {
+    for (Body& body : bodies_) {
+      if (!body.motion.absorber) continue;
+      const Vec<Dim> foot = body.gauge_foot + motion_.state[body.id].displacement;
+      const double h = level(foot);
+      // No water on the line (the surface not found): nothing to correct by.
+      if (h > 0.0) body.motion.absorber->observe(t, h - body.depth);
+    }
+  }
+  // The absorbing pistons' states, in body order (AbsorbingLaw::state_size values each), for a
+  // checkpoint; and their restoration.
+  [[nodiscard]] std::vector<double> absorber_state() const {
+    std::vector<double> v;
+    for (const Body& body : bodies_) {
+      if (!body.motion.absorber) continue;
+      const auto a = body.motion.absorber->packed();
+      v.insert(v.end(), a.begin(), a.end());
+    }
+    return v;
+  }
+  void set_absorber_state(const std::vector<double>& v) {
+    std::size_t n = 0;
+    for (const Body& body : bodies_) n += body.motion.absorber ? 1 : 0;
+    if (v.size() != n * AbsorbingLaw::state_size)
+      throw CaseError(fmt::format("the saved state holds {} values for the absorbing pistons, where the case's {} "
+                                  "absorbing piston{} need {}",
+                                  v.size(), n, n == 1 ? "" : "s", n * AbsorbingLaw::state_size));
+    std::size_t k = 0;
+    for (Body& body : bodies_) {
+      if (!body.motion.absorber) continue;
+      body.motion.absorber->unpack(v.data() + k);
+      k += AbsorbingLaw::state_size;
     }
   }
 
@@ -154,11 +220,19 @@ class Bodies {
       for (int s = 0; s <= samples; ++s) {
         const double t = end * s / samples;
         solid.set_state(body_state<Dim>(body.motion, t));
-        const Exit exit = exit_of(body, solid.lower(), solid.upper(), size, lid);
+        Vec<Dim> lo = solid.lower(), hi = solid.upper();
+        grow_by_correction(body, lo, hi);
+        const Exit exit = exit_of(body, lo, hi, size, lid);
+        const std::string absorbing =
+            body.motion.absorber
+                ? fmt::format("; an absorbing piston may move up to its absorption_limit ({:.4g} m) beyond its "
+                              "target's motion: give it that room or set a smaller absorption_limit",
+                              body.motion.absorber->limit())
+                : "";
         if (!exit.what.empty())
           throw CaseError(fmt::format("{} at t = {:.4g} s ({}): a moving wall must stay inside the tank until "
-                                      "time.end = {:.4g} s{}",
-                                      exit.what, t, exit.where, end, exit.hint));
+                                      "time.end = {:.4g} s{}{}",
+                                      exit.what, t, exit.where, end, exit.hint, absorbing));
       }
     }
   }
@@ -233,6 +307,7 @@ class Bodies {
         lo[d] -= jump + margin;
         hi[d] += jump + margin;
       }
+      grow_by_correction(body, lo, hi);
       boxes.push_back(box_solid<Dim>(lo, hi));
     }
     return boxes;
@@ -244,6 +319,16 @@ class Bodies {
   struct Exit {
     std::string what, where, hint;
   };
+  // An absorbing piston may stand up to its correction's limit from where its target puts it, along
+  // its direction: the bounds [lo, hi] of its target's pose grown by as much.
+  static void grow_by_correction(const Body& body, Vec<Dim>& lo, Vec<Dim>& hi) {
+    if (!body.motion.absorber) return;
+    for (int d = 0; d < Dim; ++d) {
+      const double reach = body.motion.absorber->limit() * std::abs(body.motion.direction[d]);
+      lo[d] -= reach;
+      hi[d] += reach;
+    }
+  }
   static Exit exit_of(const Body& body, const Vec<Dim>& lo, const Vec<Dim>& hi, const Vec3& size, bool lid) {
     constexpr int up = Dim - 1;
     const double slack = 1e-9 * (1.0 + size[0]);

@@ -44,6 +44,8 @@ struct Clock {
   // from inside a wall) clears it, and the next step evaluates first.
   bool rates_carried = false;
   RateSummary rates{};
+  // The absorbing pistons' states (Bodies::absorber_state): what their corrections are made of so far.
+  std::vector<double> absorbers;
 };
 
 struct Diagnostics {
@@ -210,6 +212,7 @@ class Solver {
   [[nodiscard]] bool has_saved_state() const { return has_saved_state_; }
 
  private:
+  void absorb();
   // `built`: the particles as the case's set-up made them (the walls at their start pose).
   void init(const Case& c, const Particles<Dim>& built);
   // Moves the moving walls to time t: their bodies' states and solids, their particles' positions and

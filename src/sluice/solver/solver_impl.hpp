@@ -19,6 +19,7 @@
 #include "sluice/physics/damping.hpp"
 #include "sluice/geometry/setup.hpp"
 #include "sluice/integrate/integrators.hpp"
+#include "sluice/solver/free_surface.hpp"
 
 namespace sluice {
 
@@ -26,6 +27,7 @@ template <int Dim>
 Solver<Dim>::Solver(const Case& c, int threads, const Communicator* comm) : threads_(std::max(1, threads)) {
   Setup<Dim> s = build_setup<Dim>(c);
   bodies_ = Bodies<Dim>(c, s.particles, s.solids);
+  clock_.absorbers = bodies_.absorber_state();
   bodies_.check_inside_tank(c.end_time, c.tank_size(), c.tank_lid);
   bodies_.check_apart(s.particles, s.solids, c.walls);
   particles_ = std::move(s.particles);
@@ -87,6 +89,7 @@ Solver<Dim>::Solver(const Case& c, Particles<Dim> particles, Clock clock, int th
   // be one the case made.
   Setup<Dim> built = build_setup<Dim>(c);
   bodies_ = Bodies<Dim>(c, built.particles, built.solids);
+  bodies_.set_absorber_state(clock_.absorbers);
   bodies_.set_time(clock_.time);
   check_saved_particles_match(built.particles, particles_, clock_.outflow, c, bodies_);
   // A particle's body is its case's (a checkpoint before format 5 has none).
@@ -425,6 +428,18 @@ void Solver<Dim>::finish_step(const StepSize& size, double time_limit) {
   clock_.time = size.end(clock_.time, time_limit);
   clock_.last_dt = dt;
   ++clock_.step;
+  absorb();
+}
+
+// The absorbing pistons observe the surface in front of them at the step's end and set their
+// correction's rate until the next; their walls' velocities at this time follow it. Their state is
+// part of the clock, so that a checkpoint, and the guard's return to a step's start, keep it.
+template <int Dim>
+void Solver<Dim>::absorb() {
+  if (!bodies_.absorbs()) return;
+  bodies_.absorb(clock_.time, [&](const Vec<Dim>& foot) { return kernel_surface<Dim>(*this, foot); });
+  clock_.absorbers = bodies_.absorber_state();
+  advance_walls(clock_.time);
 }
 
 // Water that went over the walls of an open tank and fell beyond their reach is gone: it is removed
@@ -639,6 +654,7 @@ void Solver<Dim>::restore_saved_state() {
   const std::int64_t outflow = clock_.outflow;
   clock_ = saved_clock_;
   clock_.outflow = outflow;
+  bodies_.set_absorber_state(clock_.absorbers);
   advance_walls(clock_.time);  // the walls' bodies and solids (their particles were restored above)
 }
 
