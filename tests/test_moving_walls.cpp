@@ -617,6 +617,16 @@ TEST(MovingWalls, AWallLeavingTheTankIsRefusedAtSetUp) {
     EXPECT_NE(message.find("absorption_limit (0.1 m)"), std::string::npos) << message;
   }
   EXPECT_NO_THROW(Simulation(builtin("wave_beach", {"domain.dx=0.04"}), 1));
+  // A surface gauge of a wave flume up the beach, above the still shoreline: outside the water column.
+  try {
+    Simulation sim(builtin("wave_beach", {"domain.dx=0.04", "probe[7].point=[9.2, 0.5]"}), 1);
+    FAIL() << "a surface gauge over no water was accepted";
+  } catch (const CaseError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("[[probe]] \"h0.05\": the surface gauge's vertical line up from [9.2, 0.5] has no water"),
+              std::string::npos)
+        << message;
+  }
 }
 
 // A moving wall that starts inside another wall is refused, naming both; one that touches another

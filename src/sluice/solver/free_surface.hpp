@@ -19,7 +19,8 @@ namespace sluice {
 // phi(y) = sum_j (m / rho_j) W(x - x_j) over the fluid particles, sampled every dx/8 from the foot
 // (point[up]) to a support above the highest particle within a support of the line (summed over
 // processes); the level is the highest y where phi reaches 1/2, linear between the two samples around
-// it (a flat surface of particles dx/2 below it gives phi = 1/2 there). 0 where phi never reaches 1/2.
+// it (a flat surface of particles dx/2 below it gives phi = 1/2 there). Where phi never reaches 1/2
+// (a dry bed, or water thinner than the kernel sees) the foot's height: no water over it.
 template <int Dim>
 double kernel_surface(const Solver<Dim>& solver, const Vec<Dim>& point) {
   constexpr int up = Dim - 1;
@@ -48,7 +49,7 @@ double kernel_surface(const Solver<Dim>& solver, const Vec<Dim>& point) {
           }
         });
         highest = solver.reducer().max(highest);
-        if (!(highest + support > foot)) return 0.0;
+        if (!(highest + support > foot)) return foot;
         const auto samples = static_cast<std::size_t>(std::ceil((highest + support - foot) / step)) + 1;
         std::vector<double> phi(samples, 0.0);
         for (const Near& q : near) {
@@ -64,7 +65,7 @@ double kernel_surface(const Solver<Dim>& solver, const Vec<Dim>& point) {
         for (std::size_t k = samples - 1; k > 0; --k)
           if (phi[k - 1] >= 0.5 && phi[k] < 0.5)
             return foot + step * (static_cast<double>(k - 1) + (phi[k - 1] - 0.5) / (phi[k - 1] - phi[k]));
-        return 0.0;
+        return foot;
       },
       solver.kernel());
 }

@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 
 #include "sluice/case/case_error.hpp"
+#include "sluice/case/value_text.hpp"
 #include "sluice/core/parallel.hpp"
 #include "sluice/geometry/leaks.hpp"
 #include "sluice/physics/damping.hpp"
@@ -23,9 +24,39 @@
 
 namespace sluice {
 
+// In a case with a wave maker or an absorbing piston, a surface gauge reads waves from the still
+// level it starts at: one whose vertical line has no water at the start (within a particle spacing
+// of it) stands outside the water column, and is refused.
+template <int Dim>
+void check_surface_gauges_in_water(const Case& c, const Particles<Dim>& built) {
+  const auto waves = [](const MotionLawSpec& m) {
+    return m.law == MotionLawType::wave || m.law == MotionLawType::absorber;
+  };
+  if (std::none_of(c.walls.begin(), c.walls.end(),
+                   [&](const Region& w) { return waves(w.translation) || waves(w.rotation); }))
+    return;
+  for (const Probe& probe : c.probes) {
+    if (probe.type != ProbeType::gauge || probe.measure != GaugeMeasure::surface || !probe.wall.empty()) continue;
+    bool wet = false;
+    for (std::size_t i = 0; i < built.size() && !wet; ++i) {
+      if (!built.is_fluid(i)) continue;
+      double across2 = 0.0;
+      for (int d = 0; d < Dim - 1; ++d) across2 += (built.position[d][i] - probe.point[d]) * (built.position[d][i] - probe.point[d]);
+      wet = across2 <= c.dx * c.dx && built.position[Dim - 1][i] >= probe.point[Dim - 1];
+    }
+    if (!wet)
+      throw CaseError(fmt::format(
+          "[[probe]] \"{}\": the surface gauge's vertical line up from {} has no water on it at the start; in a "
+          "wave flume a surface gauge must stand in the still water, whose level its waves are measured from "
+          "(for the water's reach up a beach, use a front probe)",
+          probe.name, format_vector(probe.point, Dim)));
+  }
+}
+
 template <int Dim>
 Solver<Dim>::Solver(const Case& c, int threads, const Communicator* comm) : threads_(std::max(1, threads)) {
   Setup<Dim> s = build_setup<Dim>(c);
+  check_surface_gauges_in_water(c, s.particles);
   bodies_ = Bodies<Dim>(c, s.particles, s.solids);
   clock_.absorbers = bodies_.absorber_state();
   bodies_.check_inside_tank(c.end_time, c.tank_size(), c.tank_lid);
