@@ -42,7 +42,7 @@ double madsen_second_order_amplitude(double height, double k, double depth) {
   const double kh = k * depth;
   const double n = 0.5 * (1.0 + 2.0 * kh / std::sinh(2.0 * kh));
   const double s = std::sinh(kh);
-  return height * height / (32.0 * depth) * (3.0 * std::cosh(kh) / (s * s * s) - 2.0 / n);
+  return height * height / (32.0 * depth) * (2.0 / n - 3.0 * std::cosh(kh) / (s * s * s));
 }
 
 RegularWave regular_wave(double height, double period, double depth, double g) {

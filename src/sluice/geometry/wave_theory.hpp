@@ -8,8 +8,11 @@
 //            H/S = 4 sinh(kh) / (sinh 2kh + 2kh) * [sinh(kh) + (cosh(k l) - cosh(kh)) / (k d)],
 // from the paddle's displacement profile (uniform; zero below the hinge and growing linearly to S/2
 // at the surface). A piston driven by X1(t) = S/2 sin(omega t) also makes a free second harmonic;
-// Madsen (1971) removes it with X2(t) = H^2/(32 h) (3 cosh kh / sinh^3 kh - 2 / n) sin(2 omega t),
-// n = (1 + 2kh / sinh 2kh) / 2.
+// Madsen's (1971) second-order motion removes it. With X positive towards the water it is
+//   X2(t) = H^2/(32 h) (2 / n - 3 cosh kh / sinh^3 kh) sin(2 omega t),  n = (1 + 2kh / sinh 2kh) / 2:
+// with the bracket's sign the other way, (3 cosh kh / sinh^3 kh - 2 / n), the piston's second
+// harmonic adds to the free wave of the first-order motion instead of cancelling it (docs/waves.md,
+// "Second-order generation", measured with gauges every 0.15 m).
 //
 // Irregular waves: a JONSWAP spectrum (Hasselmann et al. 1973) in the form Goda (1988) writes it, in
 // the frequency f (Hz) with the peak frequency fp = 1/Tp,
