@@ -6,14 +6,14 @@
 # harmonic, which beats against Stokes' bound one over 2 pi / (k(2 omega) - 2 k) = 1.34 m, so that a2
 # swings along the flume; with order = 2 it should stay at the bound harmonic (0.0046 m). Prints a2
 # and a1 at each gauge for both runs, their spread, and the wall time. Two runs, one thread each, side
-# by side (not part of CI; about 50 minutes on 2 cores at dx = 0.008 m, H/dx = 10).
+# by side (not part of CI; at dx = 0.01 m, H/dx = 8, each took 28 minutes on a 2-core AMD EPYC).
 #
-#   bash bench/wave_second_order.sh [DX] [OUT]       (default 0.008; OUT keeps the runs)
+#   bash bench/wave_second_order.sh [DX] [OUT]       (default 0.01; OUT keeps the runs)
 #
 # Needs a release build (make build).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-dx=${1:-0.008}
+dx=${1:-0.01}
 sluice=$(realpath "${SLUICE:-build/release/sluice}")
 [ -x "$sluice" ] || { echo "wave_second_order: $sluice not built; run make build" >&2; exit 1; }
 if [ -n "${2:-}" ]; then work=$(realpath -m "$2"); mkdir -p "$work"; else work=$(mktemp -d); trap 'rm -rf "$work"' EXIT; fi

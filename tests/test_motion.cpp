@@ -180,6 +180,10 @@ TEST(WaveTheory, APistonsLawIsTheStrokeTheTheoryGives) {
   paddle.translation.gain = 1.1;
   const RigidMotion<2> second = rigid_motion_of<2>(paddle);
   const double x2 = waves::madsen_second_order_amplitude(0.08, k, 0.4);
+  // (H^2 / 32 h)(2/n - 3 cosh kh / sinh^3 kh) = +0.000833 m here: with the other sign the piston's
+  // second harmonic added to the first-order motion's free wave (docs/waves.md, "Second-order
+  // generation": a2 along a flume with gauges every 0.15 m).
+  EXPECT_NEAR(x2, 0.000833, 5e-7);
   for (double t : {2.5, 4.45})
     EXPECT_NEAR(second.translation->at(t).value, 1.1 * (half_stroke * std::sin(omega * t) + x2 * std::sin(2.0 * omega * t)),
                 1e-15);
