@@ -170,7 +170,7 @@ class FlapLaw final : public ScalarLaw {
 // target over tau. Between observations the rate is held, so the value is continuous and the
 // correction adds no acceleration; |X_c| stays within `limit` (the rate is 0 while it is held there).
 // The past errors are kept at `history` times `delay` / (history - 2) apart. The value at any time is a
-// function of the observations alone, which a checkpoint keeps (state(), set_state()).
+// function of the observations alone, which a checkpoint keeps (packed(), unpack()).
 class AbsorbingLaw final : public ScalarLaw {
  public:
   static constexpr std::size_t history = 10;
@@ -200,7 +200,6 @@ class AbsorbingLaw final : public ScalarLaw {
   [[nodiscard]] double target_elevation(double t) const;
   [[nodiscard]] double limit() const { return limit_; }
   [[nodiscard]] const State& state() const { return state_; }
-  void set_state(const State& s) { state_ = s; }
   // The state as state_size numbers, and back (for a checkpoint).
   [[nodiscard]] std::array<double, state_size> packed() const;
   void unpack(const double* values);
