@@ -555,21 +555,28 @@ TEST_F(CheckpointFile, AVersionOneCheckpointIsAClearError) {
       << message;
 }
 
-// Version 5 (before absorbing pistons) is version 6 without their states' count after the outflow,
+// Version 6 (before floating bodies) is version 7 without their states' count after the absorbing
+// pistons', version 5 (before absorbing pistons) version 6 without their states' count after the outflow,
 // version 4 (before bodies) version 5 without the body field, version 3 (before outflow) version 4
 // without the outflow count after the rates, and version 2
 // (before the leapfrog) version 3 without the rates-carried byte after the clock: such files still
 // restart, and continue exactly as the current file of the same state.
-TEST_F(CheckpointFile, VersionTwoToFiveCheckpointsAreStillRead) {
+TEST_F(CheckpointFile, VersionTwoToSixCheckpointsAreStillRead) {
   ASSERT_FALSE(sim_->clock().rates_carried);
   const std::string stored_case = case_template(sim_->config());
   const std::size_t flag_at = 8 + 4 + 4 + 8 + stored_case.size() + 5 * 8;
   ASSERT_EQ(bytes_.substr(8 + 4 + 4 + 8, stored_case.size()), stored_case);
   ASSERT_EQ(bytes_[flag_at], '\0');
   ASSERT_EQ(bytes_.substr(flag_at + 1, 8), std::string(8, '\0'));  // no outflow
-  ASSERT_EQ(bytes_.substr(flag_at + 9, 4), std::string(4, '\0'));  // no absorbing pistons
+  ASSERT_EQ(bytes_.substr(flag_at + 9, 4), std::string(4, '\0'));   // no absorbing pistons
+  ASSERT_EQ(bytes_.substr(flag_at + 13, 4), std::string(4, '\0'));  // no floating bodies
   const auto older = [&](std::uint32_t version) {
     std::string old = bytes_;
+    old.erase(flag_at + 13, 4);
+    if (version == 6) {
+      std::memcpy(old.data() + 8, &version, sizeof version);
+      return parse_checkpoint(with_crc_fixed(old), "v6.bin");
+    }
     old.erase(flag_at + 9, 4);
     if (version == 5) {
       std::memcpy(old.data() + 8, &version, sizeof version);
@@ -594,10 +601,10 @@ TEST_F(CheckpointFile, VersionTwoToFiveCheckpointsAreStillRead) {
     std::memcpy(old.data() + 8, &version, sizeof version);
     return parse_checkpoint(with_crc_fixed(old), fmt::format("v{}.bin", version));
   };
-  Checkpoint current = parse_checkpoint(bytes_, "v6.bin");
+  Checkpoint current = parse_checkpoint(bytes_, "v7.bin");
   Simulation from_current(current.config, std::move(current.particles), current.clock, 1);
   for (int i = 0; i < 10; ++i) from_current.step();
-  for (std::uint32_t version : {2u, 3u, 4u, 5u}) {
+  for (std::uint32_t version : {2u, 3u, 4u, 5u, 6u}) {
     SCOPED_TRACE(version);
     Checkpoint old = older(version);
     EXPECT_FALSE(old.clock.rates_carried);

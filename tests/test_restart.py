@@ -133,7 +133,7 @@ def test_bad_checkpoints_are_clear_errors_and_change_nothing():
     attempt(good[: len(good) - 1000], "checksum mismatch (the file is damaged or incomplete)")
     other_version = bytearray(good)
     other_version[8:12] = (99).to_bytes(4, "little")
-    attempt(bytes(other_version), "not a usable checkpoint: format version 99, this sluice reads versions 2 to 6")
+    attempt(bytes(other_version), "not a usable checkpoint: format version 99, this sluice reads versions 2 to 7")
     attempt(b"time,step\n0,0\n" * 10, "it does not start with the sluice checkpoint signature")
     attempt(None, f"no such checkpoint file; {d} holds frames of a run that stopped before writing one", name="missing.bin")
     attempt(None, "a run writes its checkpoint every output.checkpoint_wall_interval seconds", name="missing.bin")

@@ -87,6 +87,7 @@ toml::array all_descriptions() {
     } else if (s.name == "wall") {
       for (const auto& p : wall_params()) keys.push_back(describe(p, s.name + "." + p.key, s.name, true));
       add_motion_laws(keys, "wall", true);
+      for (const auto& p : floating_params()) keys.push_back(describe(p, "wall.floating." + p.key, s.name, true));
     } else {
       for (const auto& p : region_params()) keys.push_back(describe(p, s.name + "." + p.key, s.name, true));
     }

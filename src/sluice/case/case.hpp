@@ -103,6 +103,34 @@ struct MotionLawSpec {
   std::shared_ptr<const MotionSeries> series;  // file: the series read (set by the loader, not a key)
 };
 
+// A floating wall ([wall.floating]): a rigid body moved by the water's force on its particles, gravity,
+// a constant external force and moment, and linear springs and dampers on its degrees of freedom
+// (solver/floating.hpp). The degrees of freedom are, in order, x, y (and z) for the centre of
+// gravity's motion, then the rotations (rz in 2D; rx, ry, rz in 3D); per-degree vectors (stiffness,
+// damping, anchor) have one value for each, in that order. Rotations are in degrees where the case
+// gives an angle or angular velocity, and their stiffness and damping per radian.
+struct FloatingSpec {
+  double mass = 0.0;                       // kg (kg per metre of depth in 2D); or
+  double density = 0.0;                    // kg/m^3: mass = density x the shape's volume (area in 2D)
+  std::vector<double> centre_of_gravity;   // m; empty: the shape's centroid
+  std::vector<double> inertia;             // kg m^2 about the centre of gravity: 2D [Izz]; 3D [Ixx, Iyy, Izz] or with [.., Ixy, Ixz, Iyz]
+  std::vector<double> radius_of_gyration;  // m, in place of the inertia: 2D [k]; 3D [kx, ky, kz]
+  Vec3 velocity{};                         // m/s, of the centre of gravity at the start
+  std::vector<double> angular_velocity;    // deg/s at the start: 2D [wz]; 3D [wx, wy, wz]; empty: at rest
+  std::vector<std::string> lock;           // degrees of freedom held at their start value (x, y, z, rx, ry, rz)
+  std::vector<double> stiffness;           // per degree of freedom: N/m (N m/rad); empty: none
+  std::vector<double> damping;             // per degree of freedom: N s/m (N m s/rad); empty: none
+  std::vector<double> anchor;              // per degree of freedom: where its spring is at rest (m, deg)
+  Vec3 force{};                            // N: a constant external force (a weight added, a tow)
+  std::vector<double> moment;              // N m about the centre of gravity: 2D [Mz]; 3D [Mx, My, Mz]
+};
+
+// The names of the degrees of freedom of a floating body, in the order of its per-degree vectors.
+inline std::vector<std::string> floating_dofs(int dimension) {
+  if (dimension == 2) return {"x", "y", "rz"};
+  return {"x", "y", "z", "rx", "ry", "rz"};
+}
+
 // A water region or a solid wall: a box (min, max), in 2D a polygon (its points, in either order), in
 // 3D a closed triangle mesh read from a file (STL or OBJ), scaled and moved. A wall is a body: it has a
 // name and may move (its translation and rotation laws; both none: fixed).
@@ -118,8 +146,10 @@ struct Region {
   // Walls only.
   std::string name;                   // unique among the walls; default "wall<N>", N from 1
   MotionLawSpec translation, rotation;
+  bool floats = false;   // a [wall.floating] table: moved by the water, not by laws
+  FloatingSpec floating;
   [[nodiscard]] bool moves() const {
-    return translation.law != MotionLawType::none || rotation.law != MotionLawType::none;
+    return translation.law != MotionLawType::none || rotation.law != MotionLawType::none || floats;
   }
 };
 

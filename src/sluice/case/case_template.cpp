@@ -108,6 +108,11 @@ class TemplateWriter {
         describe(p, "#     ");
       }
     }
+    comment("A floating wall's [wall.floating] table, after its [[wall]] (it then has no motion laws); its keys:", "");
+    for (const auto& p : floating_params()) {
+      out_ += fmt::format("#   {}:\n", p.key);
+      describe(p, "#     ");
+    }
     if (c_.walls.empty()) comment(fmt::format("(this case has no [[{}]] entries)", s.name), "");
     for (const auto& wall : c_.walls) {
       out_ += "[[wall]]\n";
@@ -121,6 +126,17 @@ class TemplateWriter {
         for (const auto& p : motion_law_params(rotation))
           if ((p.applies == nullptr || p.applies(law)) && !(p.only_3d && c_.dimension != 3))
             out_ += fmt::format("{} = {}\n", p.key, format_value(current_value(law, p), c_.dimension));
+      }
+      if (wall.floats) {
+        out_ += "[wall.floating]\n";
+        for (const auto& p : floating_params()) {
+          // An empty list is the default (none given), which TOML's [] would not read back as.
+          const ParamValue v = current_value(wall.floating, p);
+          const auto* numbers = std::get_if<std::vector<double>>(&v);
+          const auto* names = std::get_if<std::vector<std::string>>(&v);
+          if ((numbers && numbers->empty()) || (names && names->empty())) continue;
+          out_ += fmt::format("{} = {}\n", p.key, format_value(v, c_.dimension));
+        }
       }
     }
   }

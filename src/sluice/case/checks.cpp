@@ -329,6 +329,7 @@ struct Checker {
         fail(fmt::format("wall[{}] ({}) absorbs waves and turns: an absorbing piston only translates; expected no "
                          "[wall.rotation] on it",
                          i, quote(w.name)));
+      if (w.floats) check_floating(i, w);
       // A wall fixed in space inside a tank that moves would cut through the tank's walls or its water.
       if (c.tank_moves() && !w.moves())
         fail(fmt::format("wall[{}] ({}) is fixed while the tank moves; expected it to move with the tank (give it "
@@ -359,6 +360,86 @@ struct Checker {
       if (m.law == MotionLawType::polynomial && m.coefficients.empty())
         fail(fmt::format("{}.coefficients is empty: a polynomial law needs them; expected [c0, c1, ...]", key));
     });
+  }
+
+  // A floating wall: no motion laws beside it, one of mass and density, a positive inertia, known
+  // degrees of freedom, per-degree vectors of the right length, an anchor for every spring.
+  void check_floating(std::size_t i, const Region& w) const {
+    const FloatingSpec& f = w.floating;
+    const std::string key = fmt::format("wall[{}].floating", i);
+    const int dim = c.dimension;
+    if (w.translation.law != MotionLawType::none || w.rotation.law != MotionLawType::none)
+      fail(fmt::format("wall[{}] ({}) floats and has a [wall.{}] law: a floating body is moved by the water; expected "
+                       "either [wall.floating] or motion laws",
+                       i, quote(w.name), w.translation.law != MotionLawType::none ? "translation" : "rotation"));
+    if ((f.mass > 0.0) == (f.density > 0.0))
+      fail(fmt::format("{}: mass = {} kg and density = {} kg/m^3; expected one of them, > 0 (the other 0)", key, f.mass,
+                       f.density));
+    const std::vector<std::string> dofs = floating_dofs(dim);
+    const std::size_t rotations = dim == 2 ? 1 : 3;
+    const auto length = [&](const std::vector<double>& v, const char* name, std::vector<std::size_t> allowed,
+                            const std::string& what) {
+      if (v.empty()) return;
+      if (std::find(allowed.begin(), allowed.end(), v.size()) == allowed.end())
+        fail(fmt::format("{}.{} has {} value{}; expected {}", key, name, v.size(), v.size() == 1 ? "" : "s", what));
+      for (double x : v)
+        if (!std::isfinite(x)) fail(fmt::format("{}.{} holds {}; expected finite numbers", key, name, x));
+    };
+    const std::string per_dof = fmt::format("{} in a {}D case, one per degree of freedom ({})", dofs.size(), dim,
+                                            fmt::join(dofs, ", "));
+    length(f.centre_of_gravity, "centre_of_gravity", {static_cast<std::size_t>(dim)},
+           fmt::format("{} (a point)", dim));
+    length(f.inertia, "inertia", dim == 2 ? std::vector<std::size_t>{1} : std::vector<std::size_t>{3, 6},
+           dim == 2 ? "1 in a 2D case, [Izz]" : "3 ([Ixx, Iyy, Izz]) or 6 ([Ixx, Iyy, Izz, Ixy, Ixz, Iyz]) in a 3D case");
+    length(f.radius_of_gyration, "radius_of_gyration", {rotations},
+           dim == 2 ? "1 in a 2D case, [k]" : "3 in a 3D case, [kx, ky, kz]");
+    length(f.angular_velocity, "angular_velocity", {rotations},
+           dim == 2 ? "1 in a 2D case, [wz]" : "3 in a 3D case, [wx, wy, wz]");
+    length(f.moment, "moment", {rotations}, dim == 2 ? "1 in a 2D case, [Mz]" : "3 in a 3D case, [Mx, My, Mz]");
+    length(f.stiffness, "stiffness", {dofs.size()}, per_dof);
+    length(f.damping, "damping", {dofs.size()}, per_dof);
+    length(f.anchor, "anchor", {dofs.size()}, per_dof);
+    if (!f.inertia.empty() && !f.radius_of_gyration.empty())
+      fail(fmt::format("{}: both inertia and radius_of_gyration are given; expected one of them (or neither: the "
+                       "shape's at uniform density)",
+                       key));
+    for (std::size_t k = 0; k < f.inertia.size() && k < 3; ++k)
+      if (!(f.inertia[k] > 0.0))
+        fail(fmt::format("{}.inertia = [{}]: a moment of inertia of {} kg m^2 is not positive; expected each of the "
+                         "first {} values > 0",
+                         key, fmt::join(f.inertia, ", "), f.inertia[k], std::min<std::size_t>(3, f.inertia.size())));
+    if (f.inertia.size() == 6) {
+      // A tensor of a real body is positive definite: its leading minors are positive.
+      const double xx = f.inertia[0], yy = f.inertia[1], zz = f.inertia[2], xy = f.inertia[3], xz = f.inertia[4],
+                   yz = f.inertia[5];
+      const double m2 = xx * yy - xy * xy;
+      const double m3 = xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) + xz * (xy * yz - yy * xz);
+      if (!(m2 > 0.0 && m3 > 0.0))
+        fail(fmt::format("{}.inertia = [{}]: not a positive definite tensor; expected a real body's inertia",
+                         key, fmt::join(f.inertia, ", ")));
+    }
+    for (double k : f.radius_of_gyration)
+      if (!(k > 0.0))
+        fail(fmt::format("{}.radius_of_gyration = [{}]: expected each > 0 m", key, fmt::join(f.radius_of_gyration, ", ")));
+    std::set<std::string> locked;
+    for (const std::string& name : f.lock) {
+      if (std::find(dofs.begin(), dofs.end(), name) == dofs.end())
+        fail(fmt::format("{}.lock = {}: {} is not a degree of freedom of a {}D body; expected some of: {}", key,
+                         quote(name), quote(name), dim, fmt::join(dofs, ", ")));
+      if (!locked.insert(name).second) fail(fmt::format("{}.lock names {} twice; expected each once", key, quote(name)));
+    }
+    for (std::size_t k = 0; k < f.stiffness.size(); ++k) {
+      if (!(f.stiffness[k] >= 0.0))
+        fail(fmt::format("{}.stiffness = [{}]: a spring's stiffness is not negative; expected >= 0", key,
+                         fmt::join(f.stiffness, ", ")));
+      if (f.stiffness[k] > 0.0 && f.anchor.empty())
+        fail(fmt::format("{}: the spring on {} (stiffness {}) has no anchor; expected anchor = [...], {} values: "
+                         "where each spring is at rest (m, deg)",
+                         key, dofs[k], f.stiffness[k], dofs.size()));
+    }
+    for (double d : f.damping)
+      if (!(d >= 0.0))
+        fail(fmt::format("{}.damping = [{}]: expected each >= 0", key, fmt::join(f.damping, ", ")));
   }
 
   // A damping zone: a direction, and a start inside the tank.

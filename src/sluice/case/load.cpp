@@ -31,6 +31,7 @@ std::string where(const std::string& source, const toml::node& n) {
 
 std::string describe_shape(const Region& r) { return std::string(name_of(r.shape, shape_names)); }
 std::string describe_shape(const Probe& p) { return std::string(name_of(p.type, probe_type_names)) + " probe"; }
+std::string describe_shape(const FloatingSpec&) { return "floating body"; }
 std::string describe_shape(const MotionLawSpec& m) {
   if (m.law == MotionLawType::wave)
     return fmt::format("wave law with spectrum = \"{}\"", name_of(m.spectrum, wave_spectrum_names));
@@ -128,7 +129,17 @@ class Loader {
     toml::table keys = t;
     keys.erase("translation");
     keys.erase("rotation");
+    keys.erase("floating");
     Region wall = read_item(keys, wall_params(), "wall", index);
+    if (const toml::node* node = t.get("floating")) {
+      const toml::table* table = node->as_table();
+      if (table == nullptr)
+        throw CaseError(fmt::format("{}: wall[{}].floating must be a table, [wall.floating] after the [[wall]], holding "
+                                    "the body's mass and the keys of its motion",
+                                    where(source_, *node), index));
+      wall.floating = read_item(*table, floating_params(), "wall.floating", index);
+      wall.floats = true;
+    }
     if (wall.name.empty()) wall.name = fmt::format("wall{}", index + 1);
     for (const bool rotation : {false, true}) {
       const char* part = rotation ? "rotation" : "translation";

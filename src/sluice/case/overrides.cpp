@@ -143,7 +143,20 @@ void apply_one_override(Case& c, std::string_view assignment) {
   static const std::regex item_key(R"(^(water|wall|probe)(?:\[(\d+)\]|\.(\d+))\.(\w+)$)");
   static const std::regex law_key(R"(^wall(?:\[(\d+)\]|\.(\d+))\.(translation|rotation)\.(\w+)$)");
   static const std::regex tank_law_key(R"(^tank\.(translation|rotation)\.(\w+)$)");
+  static const std::regex floating_key(R"(^wall(?:\[(\d+)\]|\.(\d+))\.floating\.(\w+)$)");
   std::smatch m;
+  if (std::regex_match(a.key, m, floating_key)) {
+    const std::string digits = m[1].matched ? m[1].str() : m[2].str();
+    const std::size_t index = digits.size() > 9 ? std::numeric_limits<std::size_t>::max() : std::stoul(digits);
+    if (index >= c.walls.size())
+      throw CaseError(fmt::format("{}: the case has {} [[wall]] entr{} (numbered from 0); there is no wall[{}]", a.at,
+                                  c.walls.size(), c.walls.size() == 1 ? "y" : "ies", digits));
+    std::vector<FloatingSpec> floating{c.walls[index].floating};
+    set_item_key(floating, floating_params(), a, "wall.floating", "0", m[3], c.dimension);
+    c.walls[index].floating = floating[0];
+    c.walls[index].floats = true;
+    return;
+  }
   if (std::regex_match(a.key, m, tank_law_key)) {
     const bool rotation = m[1] == "rotation";
     const auto& params = motion_law_params(rotation);

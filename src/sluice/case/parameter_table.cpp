@@ -432,6 +432,51 @@ const std::vector<Param<MotionLawSpec>>& motion_law_params(bool rotation) {
   return rotation ? turning : translation;
 }
 
+const std::vector<Param<FloatingSpec>>& floating_params() {
+  constexpr double inf = 1e300;
+  using F = FloatingSpec;
+  const std::vector<double> none;
+  static const std::vector<Param<F>> params = {
+      declare("mass", &F::mass, "kg", 0.0, 0.0, inf,
+              "The body's mass (in 2D per metre of depth, kg/m); 0: from `density`. Give one of mass and density."),
+      declare("density", &F::density, "kg/m^3", 0.0, 0.0, inf,
+              "The body's mean density: its mass is this times the shape's volume (area in 2D); 0: `mass` is given."),
+      declare("centre_of_gravity", &F::centre_of_gravity, "m", none, unbounded_lower, unbounded_upper,
+              "Where the centre of gravity is at the start, [x, y] (2D) or [x, y, z]; empty: the shape's centroid "
+              "(a body of uniform density)."),
+      declare("inertia", &F::inertia, "kg m^2", none, unbounded_lower, unbounded_upper,
+              "Moment of inertia about the centre of gravity: [Izz] in 2D (kg m^2 per metre of depth), [Ixx, Iyy, "
+              "Izz] or [Ixx, Iyy, Izz, Ixy, Ixz, Iyz] in 3D (the tensor's entries, axes of the case); empty: from "
+              "radius_of_gyration, else from the shape at uniform density."),
+      declare("radius_of_gyration", &F::radius_of_gyration, "m", none, unbounded_lower, unbounded_upper,
+              "Radius of gyration about the centre of gravity, in place of the inertia (I = mass k^2): [k] in 2D, "
+              "[kx, ky, kz] in 3D."),
+      declare("velocity", &F::velocity, "m/s", Vec3{}, unbounded_lower, unbounded_upper,
+              "Velocity of the centre of gravity at the start."),
+      declare("angular_velocity", &F::angular_velocity, "deg/s", none, unbounded_lower, unbounded_upper,
+              "Angular velocity at the start: [wz] in 2D, [wx, wy, wz] in 3D; empty: none."),
+      declare("lock", &F::lock, "", std::vector<std::string>{}, unbounded_lower, unbounded_upper,
+              "Degrees of freedom held at their start: any of x, y, rz in 2D (x, y, z, rx, ry, rz in 3D), where "
+              "x, y, z move the centre of gravity and rx, ry, rz turn about axes through it. [\"x\", \"rz\"]: "
+              "heave only in 2D.",
+              {"x", "y", "z", "rx", "ry", "rz"}),
+      declare("stiffness", &F::stiffness, "N/m, N m/rad", none, unbounded_lower, unbounded_upper,
+              "Linear springs to fixed points, one per degree of freedom in the order x, y, (z,) (rx, ry,) rz: "
+              "force -stiffness (q - anchor) (in 2D per metre of depth); empty or 0: none. A rotation's spring "
+              "acts on the angle (radians) about its axis."),
+      declare("damping", &F::damping, "N s/m, N m s/rad", none, unbounded_lower, unbounded_upper,
+              "Linear dampers, one per degree of freedom in the same order: force -damping dq/dt; empty or 0: none."),
+      declare("anchor", &F::anchor, "m, deg", none, unbounded_lower, unbounded_upper,
+              "Where each spring is at rest, one value per degree of freedom in the same order: the centre of "
+              "gravity's coordinate (m) or the angle (deg). Needed with a stiffness."),
+      declare("force", &F::force, "N", Vec3{}, unbounded_lower, unbounded_upper,
+              "A constant external force on the centre of gravity (a weight added, a tow), besides gravity."),
+      declare("moment", &F::moment, "N m", none, unbounded_lower, unbounded_upper,
+              "A constant external moment about the centre of gravity: [Mz] in 2D, [Mx, My, Mz] in 3D; empty: none."),
+  };
+  return params;
+}
+
 const std::vector<Param<Probe>>& probe_params() {
   static const std::vector<Param<Probe>> params = {
       declare("name", &Probe::name, "", std::monostate{}, unbounded_lower, unbounded_upper,
@@ -483,6 +528,7 @@ std::vector<std::string> all_keys() {
     for (const bool rotation : {false, true})
       for (const auto& p : motion_law_params(rotation))
         keys.push_back(fmt::format("{}.{}.{}", owner, rotation ? "rotation" : "translation", p.key));
+  for (const auto& p : floating_params()) keys.push_back("wall.floating." + p.key);
   for (const auto& p : probe_params()) keys.push_back("probe." + p.key);
   return keys;
 }

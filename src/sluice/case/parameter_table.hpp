@@ -60,6 +60,8 @@ const std::vector<Param<Region>>& region_params();
 const std::vector<Param<Region>>& wall_params();
 // The keys of a wall's [wall.translation] (rotation = false) and [wall.rotation] tables.
 const std::vector<Param<MotionLawSpec>>& motion_law_params(bool rotation);
+// The keys of a floating wall's [wall.floating] table.
+const std::vector<Param<FloatingSpec>>& floating_params();
 const std::vector<Param<Probe>>& probe_params();
 
 // Every key as an error message names it: "domain.dx", and "water.min", "probe.name" for the keys of

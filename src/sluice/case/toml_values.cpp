@@ -201,5 +201,7 @@ template void assign(Region&, const Param<Region>&, const toml::node&, const std
 template void assign(Probe&, const Param<Probe>&, const toml::node&, const std::string&, const std::string&, int);
 template void assign(MotionLawSpec&, const Param<MotionLawSpec>&, const toml::node&, const std::string&,
                      const std::string&, int);
+template void assign(FloatingSpec&, const Param<FloatingSpec>&, const toml::node&, const std::string&,
+                     const std::string&, int);
 
 }  // namespace sluice

@@ -163,5 +163,6 @@ template std::string expectation(const Param<Case>&, int);
 template std::string expectation(const Param<Region>&, int);
 template std::string expectation(const Param<Probe>&, int);
 template std::string expectation(const Param<MotionLawSpec>&, int);
+template std::string expectation(const Param<FloatingSpec>&, int);
 
 }  // namespace sluice

@@ -362,7 +362,7 @@ Vec<3> rotate(const Vec<3>& a, double angle, const Vec<3>& v) {
 template <int Dim>
 BodyState<Dim> body_state(const RigidMotion<Dim>& motion, double t) {
   BodyState<Dim> s;
-  s.axis = motion.axis;
+  s.axis = s.rate_axis = s.acceleration_axis = motion.axis;
   s.centre = motion.centre;
   if (motion.translation) {
     const LawValue l = motion.translation->at(t);
@@ -382,11 +382,12 @@ BodyState<Dim> body_state(const RigidMotion<Dim>& motion, double t) {
 template <int Dim>
 PointMotion<Dim> point_motion(const BodyState<Dim>& s, const Vec<Dim>& start) {
   const Vec<3> r = rotate(s.axis, s.angle, lift<Dim>(start - s.centre));
-  const Vec<3> ar = cross(s.axis, r);
+  const Vec<3> ar = cross(s.rate_axis, r);
   PointMotion<Dim> m;
   m.position = s.centre + s.displacement + drop<Dim>(r);
   m.velocity = s.velocity + drop<Dim>(s.angular_rate * ar);
-  m.acceleration = s.acceleration + drop<Dim>(s.angular_acceleration * ar + (s.angular_rate * s.angular_rate) * cross(s.axis, ar));
+  m.acceleration = s.acceleration + drop<Dim>(s.angular_acceleration * cross(s.acceleration_axis, r) +
+                                              (s.angular_rate * s.angular_rate) * cross(s.rate_axis, ar));
   return m;
 }
 

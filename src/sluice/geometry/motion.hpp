@@ -263,11 +263,15 @@ struct RigidMotion {
 };
 
 // A body's pose and its rates at one time.
+// The pose is the rotation by `angle` about `axis`; the angular velocity is angular_rate along
+// rate_axis and the angular acceleration angular_acceleration along acceleration_axis: all three the
+// same axis for a rotation about a fixed one, each its own for a floating body turning freely in 3D.
 template <int Dim>
 struct BodyState {
   Vec<Dim> displacement{}, velocity{}, acceleration{};  // of the centre of rotation from its start
   double angle = 0.0, angular_rate = 0.0, angular_acceleration = 0.0;
   Vec<3> axis{0.0, 0.0, 1.0};
+  Vec<3> rate_axis{0.0, 0.0, 1.0}, acceleration_axis{0.0, 0.0, 1.0};
   Vec<Dim> centre{};  // the centre of rotation at the start
 };
 
@@ -301,13 +305,14 @@ PointMotion<Dim> motion_at(const BodyState<Dim>& s, const Vec<Dim>& x) {
   const auto cross = [](const Vec<3>& a, const Vec<3>& b) -> Vec<3> {
     return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
   };
-  const Vec<3> ar = cross(s.axis, r);
-  const Vec<3> aar = cross(s.axis, ar);
+  const Vec<3> ar = cross(s.rate_axis, r);
+  const Vec<3> aar = cross(s.rate_axis, ar);
+  const Vec<3> br = cross(s.acceleration_axis, r);
   PointMotion<Dim> m;
   m.position = x;
   for (int d = 0; d < Dim; ++d) {
     m.velocity[d] = s.velocity[d] + s.angular_rate * ar[d];
-    m.acceleration[d] = s.acceleration[d] + s.angular_acceleration * ar[d] + s.angular_rate * s.angular_rate * aar[d];
+    m.acceleration[d] = s.acceleration[d] + s.angular_acceleration * br[d] + s.angular_rate * s.angular_rate * aar[d];
   }
   return m;
 }

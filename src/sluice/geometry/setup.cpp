@@ -13,6 +13,7 @@
 
 #include "sluice/case/case_error.hpp"
 #include "sluice/geometry/box.hpp"
+#include "sluice/geometry/floating_body.hpp"
 #include "sluice/geometry/lattice.hpp"
 #include "sluice/geometry/mesh_solid.hpp"
 #include "sluice/geometry/polygon.hpp"
@@ -437,6 +438,30 @@ void add_wave_maker_notes(std::vector<std::string>& notes, const Case& c) {
   });
 }
 
+// What each floating body is (its mass, centre of gravity and inertia, as the solver takes them), and
+// a warning for one denser than the water: it sinks (a valid case, but rarely the one meant).
+void add_floating_notes(std::vector<std::string>& notes, const Case& c) {
+  for (std::size_t k = 0; k < c.walls.size(); ++k) {
+    const Region& w = c.walls[k];
+    if (!w.floats) continue;
+    const MassProperties shape = mass_properties(w, c.dimension);
+    const FloatingModel m = floating_model(w.floating, shape, c.dimension, c.gravity);
+    const bool plane = c.dimension == 2;
+    std::string centre, inertia;
+    for (int d = 0; d < c.dimension; ++d) centre += fmt::format("{}{:.4g}", d ? ", " : "", m.start_centre[d]);
+    if (plane) inertia = fmt::format("{:.4g}", m.inertia[2]);
+    else inertia = fmt::format("{:.4g}, {:.4g}, {:.4g}", m.inertia[0], m.inertia[1], m.inertia[2]);
+    const double density = m.mass / shape.volume;
+    notes.push_back(fmt::format("wall[{}] ({}) floats: mass {:.4g} kg{}, mean density {:.4g} kg/m^3, centre of gravity "
+                                "({}) m, inertia {} kg m^2{}",
+                                k, w.name, m.mass, plane ? "/m" : "", density, centre, inertia, plane ? "/m" : ""));
+    if (density > c.rest_density)
+      notes.push_back(fmt::format("warning: wall[{}] ({}) floats with a mean density of {:.4g} kg/m^3, above the "
+                                  "water's {:.4g}: it will sink",
+                                  k, w.name, density, c.rest_density));
+  }
+}
+
 template <int Dim>
 Setup<Dim> build_setup(const Case& c) {
   Setup<Dim> s;
@@ -469,6 +494,7 @@ Setup<Dim> build_setup(const Case& c) {
                                   "kept (where water regions overlap, or water lies on a wall particle)",
                                   water));
   add_wave_maker_notes(s.notes, c);
+  add_floating_notes(s.notes, c);
   if (c.hydrostatic_start) set_hydrostatic_density(s.particles, c);
   if (c.initial_pressure != 0.0) {
     const TaitEos eos{c.rest_density, c.sound_speed, c.gamma};

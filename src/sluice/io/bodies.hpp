@@ -1,6 +1,9 @@
 // The moving walls' series: bodies/<name>.csv for each wall with a motion law, a row per sample with
 // the body's reference point (its centre of rotation, moved with it), its angle about its axis
-// (degrees), their rates, and the force and moment the water exerts on it (Solver::body_load).
+// (degrees), their rates, and the force and moment the water exerts on it (Solver::body_load). A
+// floating body's row has its centre of gravity, its orientation (the angle in 2D; the quaternion
+// and roll, pitch and yaw in 3D), its velocities, the water's force and moment about the centre of
+// gravity that moved it, and its springs' and dampers' forces and moments.
 #pragma once
 
 #include <filesystem>
@@ -14,6 +17,7 @@ namespace sluice {
 
 // The header of a body's series in `dimension` dimensions.
 std::string body_header(int dimension);
+std::string floating_body_header(int dimension);
 
 class BodyRecorder {
  public:

@@ -200,6 +200,8 @@ void write_checkpoint_bytes(const Simulation& sim, double wall_seconds, const By
   put(head, c.outflow);
   put<std::uint32_t>(head, static_cast<std::uint32_t>(c.absorbers.size()));
   for (double v : c.absorbers) put(head, v);
+  put<std::uint32_t>(head, static_cast<std::uint32_t>(c.floating.size()));
+  for (double v : c.floating) put(head, v);
   // Every process's particles, on the root (the other processes write nothing).
   sim.visit([&](const auto& solver) {
     solver.with_all_particles([&](const auto& p) {
@@ -292,6 +294,16 @@ Checkpoint parse_checkpoint(const std::string& bytes, const std::string& source)
       const double v = r.get<double>();
       if (!std::isfinite(v)) r.refuse(fmt::format("an absorbing piston's state value {} is not a finite number", v));
       cp.clock.absorbers.push_back(v);
+    }
+  }
+  // Version 7 keeps the floating bodies' states (before it there were none).
+  if (version >= 7) {
+    const auto n = r.get<std::uint32_t>();
+    if (n > 25 * 255) r.refuse(fmt::format("{} values of floating bodies' state, more than 255 walls hold", n));
+    for (std::uint32_t k = 0; k < n; ++k) {
+      const double v = r.get<double>();
+      if (!std::isfinite(v)) r.refuse(fmt::format("a floating body's state value {} is not a finite number", v));
+      cp.clock.floating.push_back(v);
     }
   }
   // A run's clock starts at zero and only moves forward. A negative or non-finite time (possible only in

@@ -24,6 +24,8 @@
 #include "sluice/core/parallel.hpp"
 #include "sluice/core/particles.hpp"
 #include "sluice/geometry/setup.hpp"
+#include "sluice/geometry/floating_body.hpp"
+#include "sluice/geometry/mass_properties.hpp"
 #include "sluice/geometry/motion.hpp"
 #include "sluice/geometry/wave_theory.hpp"
 #include "sluice/geometry/moving_solid.hpp"
@@ -47,6 +49,9 @@ class Bodies {
     // (on the floor, motion.gauge_distance in front of its face), and the still water's depth.
     Vec<Dim> gauge_foot{};
     double depth = 0.0;
+    // A floating body ([wall.floating]): moved by its dynamics, not by laws.
+    bool floats = false;
+    FloatingBody floating;
   };
 
   Bodies() = default;
@@ -83,6 +88,17 @@ class Bodies {
       body.name = wall.name;
       if (!wall.moves()) continue;
       body.moves = true;
+      if (wall.floats) {
+        body.floats = true;
+        body.floating = FloatingBody(floating_model(wall.floating, mass_properties(wall, Dim), Dim, c.gravity),
+                                     wall.floating);
+        std::shared_ptr<const Solid<Dim>>& shape = solids[solids.size() - walls + k];
+        body.solid = std::make_shared<MovingSolid<Dim>>(shape);
+        shape = body.solid;
+        motion_.moving[body.id] = 1;
+        motion_.any = true;
+        continue;
+      }
       // An absorbing piston measures the surface a kernel support and a spacing in front of its face,
       // where the water's kernel sum is not cut by the piston's own particles.
       const double g = norm(c.gravity) > 0.0 ? norm(c.gravity) : waves::kGravity;
@@ -166,6 +182,42 @@ class Bodies {
     }
   }
 
+  // Whether a body floats; f(body) for each floating one.
+  [[nodiscard]] bool floats() const {
+    return std::any_of(bodies_.begin(), bodies_.end(), [](const Body& b) { return b.floats; });
+  }
+  template <class F>
+  void each_floating(F&& f) {
+    for (Body& body : bodies_)
+      if (body.floats) f(body);
+  }
+  // The floating bodies' states, in body order (FloatingState::packed_size values each), for the
+  // clock and a checkpoint; and their restoration (the walls follow at the next set_time).
+  [[nodiscard]] std::vector<double> floating_state() const {
+    std::vector<double> v;
+    for (const Body& body : bodies_) {
+      if (!body.floats) continue;
+      const auto a = body.floating.packed();
+      v.insert(v.end(), a.begin(), a.end());
+    }
+    return v;
+  }
+  void set_floating_state(const std::vector<double>& v) {
+    std::size_t n = 0;
+    for (const Body& body : bodies_) n += body.floats ? 1 : 0;
+    if (v.empty() && n > 0) return;  // a fresh start: the bodies' own start states
+    if (v.size() != n * FloatingState::packed_size)
+      throw CaseError(fmt::format("the saved state holds {} values for the floating bodies, where the case's {} "
+                                  "floating bod{} need {}",
+                                  v.size(), n, n == 1 ? "y" : "ies", n * FloatingState::packed_size));
+    std::size_t k = 0;
+    for (Body& body : bodies_) {
+      if (!body.floats) continue;
+      body.floating.unpack(v.data() + k);
+      k += FloatingState::packed_size;
+    }
+  }
+
   [[nodiscard]] bool any_moving() const { return motion_.any; }
   [[nodiscard]] const WallMotion<Dim>& motion() const { return motion_; }
   [[nodiscard]] const std::vector<Body>& list() const { return bodies_; }
@@ -176,7 +228,7 @@ class Bodies {
     time_ = t;
     for (Body& body : bodies_) {
       if (!body.moves) continue;
-      motion_.state[body.id] = body_state<Dim>(body.motion, t);
+      motion_.state[body.id] = body.floats ? body.floating.template pose<Dim>() : body_state<Dim>(body.motion, t);
       body.solid->set_state(motion_.state[body.id]);
       motion_.lower[body.id] = body.solid->lower();
       motion_.upper[body.id] = body.solid->upper();
@@ -217,9 +269,10 @@ class Bodies {
     for (const Body& body : bodies_) {
       if (!body.moves || body.id == body_id::tank) continue;
       MovingSolid<Dim> solid(std::shared_ptr<const Solid<Dim>>(body.solid, &body.solid->shape()));
-      for (int s = 0; s <= samples; ++s) {
+      // A floating body goes where the water takes it: it must start inside.
+      for (int s = 0; s <= (body.floats ? 0 : samples); ++s) {
         const double t = end * s / samples;
-        solid.set_state(body_state<Dim>(body.motion, t));
+        solid.set_state(body.floats ? body.floating.template pose<Dim>() : body_state<Dim>(body.motion, t));
         Vec<Dim> lo = solid.lower(), hi = solid.upper();
         grow_by_correction(body, lo, hi);
         const Exit exit = exit_of(body, lo, hi, size, lid);
@@ -229,6 +282,9 @@ class Bodies {
                               "target's motion: give it that room or set a smaller absorption_limit",
                               body.motion.absorber->limit())
                 : "";
+        if (!exit.what.empty() && body.floats)
+          throw CaseError(fmt::format("{} at the start ({}): a floating body must start inside the tank", exit.what,
+                                      exit.where));
         if (!exit.what.empty())
           throw CaseError(fmt::format("{} at t = {:.4g} s ({}): a moving wall must stay inside the tank until "
                                       "time.end = {:.4g} s{}{}",
@@ -280,11 +336,22 @@ class Bodies {
   // Boxes that hold everything each moving body's shape covers over the run (sampled, and grown by
   // the most a sample's bounds moved from the one before plus `margin`): where the leak and friction
   // checks must look, and where the cell grid must reach.
-  [[nodiscard]] Solids<Dim> swept(double end, double margin) const {
+  [[nodiscard]] Solids<Dim> swept(double end, double margin, const Vec3& tank, bool lid) const {
     Solids<Dim> boxes;
     constexpr int samples = 2000;
     for (const Body& body : bodies_) {
       if (!body.moves) continue;
+      if (body.floats) {
+        // Anywhere in the tank, and above an open one by as much as the body is tall.
+        Vec<Dim> lo = body.solid->lower(), hi = body.solid->upper();
+        const double size = norm(hi - lo);
+        for (int d = 0; d < Dim; ++d) {
+          lo[d] = std::min(lo[d], 0.0) - margin;
+          hi[d] = std::max(hi[d], tank[d]) + margin + (d == Dim - 1 && !lid ? size : 0.0);
+        }
+        boxes.push_back(box_solid<Dim>(lo, hi));
+        continue;
+      }
       // Up to when its laws settle, where they do, so that the box (and the grid that covers it) is
       // the same for a run and its restart with a later end.
       const double settled = settled_after(body.motion);

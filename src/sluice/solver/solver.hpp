@@ -46,6 +46,9 @@ struct Clock {
   RateSummary rates{};
   // The absorbing pistons' states (Bodies::absorber_state): what their corrections are made of so far.
   std::vector<double> absorbers;
+  // The floating bodies' states (Bodies::floating_state): pose, rates and the loads of the last
+  // evaluation, whose accelerations the leapfrog carries.
+  std::vector<double> floating;
 };
 
 struct Diagnostics {
@@ -213,6 +216,7 @@ class Solver {
 
  private:
   void absorb();
+  void load_floating();
   // `built`: the particles as the case's set-up made them (the walls at their start pose).
   void init(const Case& c, const Particles<Dim>& built);
   // Moves the moving walls to time t: their bodies' states and solids, their particles' positions and

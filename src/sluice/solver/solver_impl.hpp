@@ -59,6 +59,7 @@ Solver<Dim>::Solver(const Case& c, int threads, const Communicator* comm) : thre
   check_surface_gauges_in_water(c, s.particles);
   bodies_ = Bodies<Dim>(c, s.particles, s.solids);
   clock_.absorbers = bodies_.absorber_state();
+  clock_.floating = bodies_.floating_state();
   bodies_.check_inside_tank(c.end_time, c.tank_size(), c.tank_lid);
   bodies_.check_apart(s.particles, s.solids, c.walls);
   particles_ = std::move(s.particles);
@@ -121,6 +122,7 @@ Solver<Dim>::Solver(const Case& c, Particles<Dim> particles, Clock clock, int th
   Setup<Dim> built = build_setup<Dim>(c);
   bodies_ = Bodies<Dim>(c, built.particles, built.solids);
   bodies_.set_absorber_state(clock_.absorbers);
+  bodies_.set_floating_state(clock_.floating);
   bodies_.set_time(clock_.time);
   check_saved_particles_match(built.particles, particles_, clock_.outflow, c, bodies_);
   // A particle's body is its case's (a checkpoint before format 5 has none).
@@ -209,7 +211,7 @@ void Solver<Dim>::init(const Case& c, const Particles<Dim>& built) {
     upper[d] = size[d] + margin;
   }
   // A moving wall's reach: the box it sweeps over the run, in place of its shape.
-  const Solids<Dim> swept = bodies_.swept(c.end_time, 2.0 * h);
+  const Solids<Dim> swept = bodies_.swept(c.end_time, 2.0 * h, c.tank_size(), c.tank_lid);
   if (c.tank_moves()) tank_swept_ = std::pair{swept.front()->lower(), swept.front()->upper()};
   Solids<Dim> reach_solids;
   for (const auto& solid : solids_)
@@ -376,6 +378,7 @@ void Solver<Dim>::step(double time_limit) {
   }
   const bool euler = case_.integrator == Integrator::euler;
   const RateSummary rates = global(evaluate(shepard_due, 0u, euler));
+  load_floating();
   min_particle_distance_ = rates.min_fluid_distance;
   saved_clock_ = clock_;
   const StepSize size = step_size(rates, time_limit);
@@ -384,11 +387,14 @@ void Solver<Dim>::step(double time_limit) {
   if (case_.integrator == Integrator::predictor_corrector) {
     stop_wall_approach_before_drift(nullptr, 0.0);
     predictor_update(particles_, dt, floor, threads_);
+    bodies_.each_floating([&](auto& body) { body.floating.predict(dt); });
     advance_walls(clock_.time + 0.5 * dt);
     has_saved_state_ = true;
     evaluate(false, field_role::step_start, true);
+    load_floating();
     stop_wall_approach_before_drift(nullptr, 0.0);
     corrector_update(particles_, dt, floor, threads_);
+    bodies_.each_floating([&](auto& body) { body.floating.correct(dt); });
   } else {
     particles_.position_start = particles_.position;
     particles_.velocity_start = particles_.velocity;
@@ -396,6 +402,7 @@ void Solver<Dim>::step(double time_limit) {
     has_saved_state_ = true;
     stop_wall_approach_before_drift(nullptr, 0.0);
     euler_update(particles_, dt, floor, threads_);
+    bodies_.each_floating([&](auto& body) { body.floating.euler(dt); });
   }
   advance_walls(size.end(clock_.time, time_limit));
   finish_step(size, time_limit);
@@ -410,6 +417,7 @@ template <int Dim>
 void Solver<Dim>::leapfrog_step(double time_limit, bool shepard_due) {
   if (!clock_.rates_carried) {
     clock_.rates = global(evaluate(shepard_due, 0u, false));
+    load_floating();
     clock_.rates_carried = true;
     shepard_due = false;
   }
@@ -424,10 +432,13 @@ void Solver<Dim>::leapfrog_step(double time_limit, bool shepard_due) {
   std::swap(p.density_rate, p.density_rate_start);
   stop_wall_approach_before_drift(&p.acceleration_start, 0.5 * dt);
   leapfrog_kick_drift(p, dt, floor, threads_);
+  bodies_.each_floating([&](auto& body) { body.floating.kick_drift(dt); });
   advance_walls(size.end(clock_.time, time_limit));
   has_saved_state_ = true;
   clock_.rates = global(evaluate(shepard_due, field_role::step_start | field_role::rates_start, true));
+  load_floating();
   leapfrog_final_kick(p, dt, floor, threads_);
+  bodies_.each_floating([&](auto& body) { body.floating.final_kick(dt); });
   finish_step(size, time_limit);
 }
 
@@ -459,7 +470,22 @@ void Solver<Dim>::finish_step(const StepSize& size, double time_limit) {
   clock_.time = size.end(clock_.time, time_limit);
   clock_.last_dt = dt;
   ++clock_.step;
+  clock_.floating = bodies_.floating_state();
   absorb();
+}
+
+// The floating bodies take the water's force and moment on their particles in the state just
+// evaluated (summed over the processes), and their accelerations follow.
+template <int Dim>
+void Solver<Dim>::load_floating() {
+  if (!bodies_.floats()) return;
+  bodies_.each_floating([&](auto& body) {
+    const BodyLoad load = body_load(body.id);
+    Vec3 force{};
+    for (int d = 0; d < Dim; ++d) force[d] = load.force[d];
+    body.floating.set_load(force, load.moment);
+  });
+  clock_.floating = bodies_.floating_state();
 }
 
 // The absorbing pistons observe the surface in front of them at the step's end and set their
@@ -686,6 +712,7 @@ void Solver<Dim>::restore_saved_state() {
   clock_ = saved_clock_;
   clock_.outflow = outflow;
   bodies_.set_absorber_state(clock_.absorbers);
+  bodies_.set_floating_state(clock_.floating);
   advance_walls(clock_.time);  // the walls' bodies and solids (their particles were restored above)
 }
 
