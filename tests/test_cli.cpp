@@ -287,6 +287,27 @@ TEST_F(Cli, InconsistentCaseFile) {
   EXPECT_FALSE(fs::exists(dir_ / "escape"));
 }
 
+// A floating body's bad input: each a message naming what was wrong, exit status 2, nothing written;
+// one denser than the water is a warning, and runs.
+TEST_F(Cli, FloatingBodiesBadInput) {
+  const auto run = [&](const std::string& set) {
+    return sluice({"run", "floating_box", "-q", "-o", "o", "--set", "domain.dx=0.05", "--set", set});
+  };
+  expect_bad_input(run("wall[0].min=[-0.1, 0.45]"),
+                   {"wall 1 (box) leaves the tank through the wall at the low end of x at the start",
+                    "a floating body must start inside the tank"});
+  expect_bad_input(run("wall[0].floating.inertia=[0]"), {"wall[0].floating.inertia = [0]", "is not positive"});
+  expect_bad_input(run("wall[0].floating.lock=[\"rx\"]"), {"\"rx\" is not a degree of freedom of a 2D body"});
+  expect_bad_input(run("wall[0].floating.stiffness=[0, 10, 0]"), {"the spring on y (stiffness 10) has no anchor"});
+  expect_bad_input(run("wall[0].floating.mass=2.0"), {"expected one of them"});
+  expect_only({});
+  const Result heavy = sluice({"run", "floating_box", "-o", "o", "--set", "domain.dx=0.05", "--set", "time.end=0.01",
+                               "--set", "wall[0].floating.density=1200"});
+  EXPECT_EQ(heavy.status, 0) << heavy.err;
+  expect_contains(heavy.err, {"warning: wall[0] (box) floats with a mean density of 1200 kg/m^3, above the water's "
+                              "1000: it will sink"});
+}
+
 // A probe outside the tank would record zeros for the whole run.
 TEST_F(Cli, ProbeOutsideTheTank) {
   write("bad.toml", "[tank]\nwidth = 2.0\nheight = 1.5\n" + minimal_water +

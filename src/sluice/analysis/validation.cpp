@@ -83,7 +83,7 @@ ValidationBounds full_bounds() {
   return {.mm_front_rms = 0.25, .mm_height_rms = 0.0, .ko_front_rms = 0.0, .buchner_pressure_rms = 0.20,
           .buchner_plateau_rms = 0.06, .buchner_impact = 0.2, .spheric2_impact = 0.02, .wave_height_percent = 5.0,
           .wave_period_percent = 1.0, .wave_reflection = 0.05, .ntnu_amplitude_percent = 5.0,
-          .ntnu_phase_degrees = 10.0};
+          .ntnu_phase_degrees = 10.0, .buoyancy_percent = 1.0, .decay_period_percent = 5.0};
 }
 
 ValidationBounds quick_bounds() {
@@ -100,13 +100,14 @@ ValidationBounds quick_bounds() {
   return {.mm_front_rms = 0.25, .mm_height_rms = 0.03, .ko_front_rms = 0.30, .buchner_pressure_rms = 0.35,
           .buchner_plateau_rms = 0.10, .buchner_impact = 0.15, .spheric2_impact = 0.15, .wave_height_percent = 10.0,
           .wave_period_percent = 1.5, .wave_reflection = 0.06, .ntnu_amplitude_percent = 10.0,
-          .ntnu_phase_degrees = 90.0};
+          .ntnu_phase_degrees = 90.0, .buoyancy_percent = 6.0, .decay_period_percent = 8.0};
 }
 
 const std::vector<std::string>& validation_case_names() {
   static const std::vector<std::string> names = [] {
     std::vector<std::string> v = {"martin_moyce", "koshizuka_oka", "buchner", "spheric2"};
     for (const auto& w : wave_validation_cases()) v.push_back(w);
+    for (const auto& b : body_validation_cases()) v.push_back(b);
     return v;
   }();
   return names;
@@ -464,6 +465,7 @@ void check_validation_case(const std::string& case_name, const Case& c) {
   else if (case_name == "buchner") check_buchner_column(c);
   else if (case_name == "spheric2") check_spheric2_case(c);
   else if (is_wave_case(case_name)) check_wave_case(case_name, c);
+  else if (is_body_case(case_name)) check_body_case(case_name, c);
   else throw AnalysisError(fmt::format("no validation case '{}'", case_name));
 }
 
@@ -703,6 +705,7 @@ ValidationResult run_and_evaluate(const std::string& name, const Case& c, const 
                             : name == "buchner"       ? evaluate_buchner(c, run.output_dir, bounds)
                             : name == "wave_flume"    ? evaluate_wave_flume(c, run.output_dir, bounds)
                             : is_wave_case(name)      ? evaluate_ntnu_flume(name, c, run.output_dir, bounds)
+                            : is_body_case(name)      ? evaluate_body_case(name, c, run.output_dir, bounds)
                                                       : evaluate_spheric2(c, run.output_dir, bounds);
   result.particles = rr.particles;
   result.fluid_particles = rr.final.fluid_particles;
@@ -721,6 +724,7 @@ ValidationResult run_and_evaluate(const std::string& name, const Case& c, const 
 ValidationReport run_validation(const ValidationOptions& options, std::ostream& log) {
   std::vector<std::string> names = options.cases;
   if (names.empty() && options.waves) names = wave_validation_cases();
+  if (names.empty() && options.bodies) names = body_validation_cases();
   if (names.empty()) {
     names = default_validation_cases();
     if (options.three_d) names.push_back("spheric2");
@@ -743,10 +747,12 @@ ValidationReport run_validation(const ValidationOptions& options, std::ostream& 
       auto loaded = load_builtin_case(source.builtin);
       if (!loaded) throw AnalysisError(fmt::format("the built-in case '{}' is missing from this build", source.builtin));
       Case c = *loaded;
-      if (variant && variant->two_d_only && (c.dimension != 2 || is_wave_case(name))) continue;
+      if (variant && variant->two_d_only && (c.dimension != 2 || is_wave_case(name) || is_body_case(name))) continue;
       apply_overrides(c, source.sets);
       if (options.quick && is_wave_case(name)) {
         apply_overrides(c, quick_wave_sets(name));
+      } else if (options.quick && is_body_case(name)) {
+        apply_overrides(c, quick_body_sets(name));
       } else if (options.quick) {
         const double length = unit_length(name, c);
         apply_overrides(c, {fmt::format("domain.dx={:.17g}", length / quick_resolution(name))});

@@ -92,6 +92,8 @@ struct ValidationBounds {
   double wave_reflection;       // wave_flume: reflection coefficient Kr
   double ntnu_amplitude_percent;  // NTNU flume: |first-harmonic amplitude - measured| at each probe, %
   double ntnu_phase_degrees;      // NTNU flume: |first-harmonic phase - measured| at each probe, degrees
+  double buoyancy_percent;        // floating_box: |draft - rho_b/rho_w height| / that, %
+  double decay_period_percent;    // NTNU section decays: |natural period - measured| / measured, %
 };
 ValidationBounds full_bounds();
 ValidationBounds quick_bounds();
@@ -114,6 +116,18 @@ ValidationCaseSource validation_case_source(const std::string& case_name);
 std::vector<std::string> quick_wave_sets(const std::string& case_name);
 // Throws AnalysisError when a wave case is no longer the one its theory or data are for.
 void check_wave_case(const std::string& case_name, const Case& c);
+
+// The floating-body cases (analysis/body_validation.cpp), run by `sluice validate --bodies`: the
+// floating box's draft against Archimedes, the NTNU section's heave and roll decay periods.
+const std::vector<std::string>& body_validation_cases();
+bool is_body_case(const std::string& case_name);
+ValidationCaseSource body_case_source(const std::string& case_name);
+// --quick's overrides of a floating-body case: a coarser dx and a shorter run.
+std::vector<std::string> quick_body_sets(const std::string& case_name);
+// Throws AnalysisError when a floating-body case is no longer the one its data are for.
+void check_body_case(const std::string& case_name, const Case& c);
+ValidationResult evaluate_body_case(const std::string& case_name, const Case& c, const std::filesystem::path& run_dir,
+                                    const ValidationBounds& b);
 
 // Throws AnalysisError when the case is not the one its validation data are for (its column, tank or
 // gravity): checked before it runs, and again by its evaluation.
@@ -167,6 +181,7 @@ struct ValidationOptions {
   std::vector<std::string> cases;          // empty: the 2D cases, and with `three_d` the 3D one
   bool three_d = false;                    // also the 3D case (spheric2)
   bool waves = false;                      // the wave cases instead of the dam breaks (with `cases` empty)
+  bool bodies = false;                     // the floating-body cases instead (with `cases` empty)
   std::vector<std::string> sets;           // key=value overrides applied to every case (after --quick's dx)
   std::vector<ValidationVariant> variants;  // every case run again with each, after `sets` (distinct labels)
   std::string command_line;                // recorded in the report

@@ -67,6 +67,7 @@ bool is_wave_case(const std::string& case_name) {
 }
 
 ValidationCaseSource validation_case_source(const std::string& case_name) {
+  if (is_body_case(case_name)) return body_case_source(case_name);
   if (const NtnuRun* run = ntnu_run(case_name))
     return {"ntnu_flume",
             {fmt::format("wall[1].rotation.file={}", run->record),

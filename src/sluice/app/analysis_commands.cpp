@@ -186,7 +186,7 @@ int convergence(const ConvergenceArgs& a) {
 }
 
 struct ValidateArgs {
-  bool quick = false, quiet = false, three_d = false, no_dynamic = false, waves = false;
+  bool quick = false, quiet = false, three_d = false, no_dynamic = false, waves = false, bodies = false;
   std::string output;
   std::vector<std::string> cases, sets, compare;
   int threads = 0;
@@ -198,6 +198,8 @@ int validate(const ValidateArgs& a) {
   o.cases = a.cases;
   o.three_d = a.three_d;
   o.waves = a.waves;
+  o.bodies = a.bodies;
+  if (a.waves && a.bodies) throw BadInput("--waves and --bodies: expected one of them (run validate once for each)");
   o.sets = a.sets;
   for (const auto& text : a.compare) {
     try {
@@ -219,12 +221,12 @@ int validate(const ValidateArgs& a) {
       throw BadInput(fmt::format("--case {}: no validation case of that name; expected one of: {}", name,
                                  fmt::join(analysis::validation_case_names(), ", ")));
   o.threads = threads_or_all(a.threads);
-  o.output_dir = a.output.empty() ? fs::path("out") / fmt::format("validation{}{}", a.waves ? "_waves" : "",
+  o.output_dir = a.output.empty() ? fs::path("out") / fmt::format("validation{}{}", a.waves ? "_waves" : a.bodies ? "_bodies" : "",
                                                                   a.quick ? "_quick" : "")
                                   : fs::path(a.output);
   o.progress = a.quiet ? RunOptions::Progress::none : RunOptions::Progress::lines;
   o.command_line = std::string("sluice validate") + (a.quick ? " --quick" : "") + (a.three_d ? " --3d" : "") +
-                   (a.waves ? " --waves" : "") +
+                   (a.waves ? " --waves" : "") + (a.bodies ? " --bodies" : "") +
                    (a.no_dynamic ? " --no-dynamic" : "");
   for (const auto& name : a.cases) o.command_line += " --case " + name;
   for (const auto& set : a.sets) o.command_line += " --set " + set;
@@ -308,9 +310,13 @@ Command add_validate_command(CLI::App& app) {
   cmd->add_flag("--waves", args->waves,
                 "Run the wave cases instead: wave_flume against linear theory and the NTNU flume's runs 1021, 1062 and "
                 "1102 against the laboratory's probes (about 80 minutes on two cores; with --quick a few minutes)");
+  cmd->add_flag("--bodies", args->bodies,
+                "Run the floating-body cases instead: the floating box's draft against Archimedes and the NTNU "
+                "section's heave and roll decay periods against the measured ones (about 100 minutes on two cores; "
+                "with --quick under ten minutes)");
   cmd->add_option("--case", args->cases,
                   "Run only this validation case (repeatable): martin_moyce, koshizuka_oka, buchner, spheric2, "
-                  "wave_flume, ntnu_1021, ntnu_1062, ntnu_1102");
+                  "wave_flume, ntnu_1021, ntnu_1062, ntnu_1102, floating_box, ntnu_heave_decay, ntnu_roll_decay");
   cmd->add_option("--set", args->sets,
                   "Override a case key in every validation case, e.g. --set physics.wall_boundary=adami (repeatable; "
                   "applied after --quick's resolution)")

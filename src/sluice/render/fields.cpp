@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <stdexcept>
@@ -81,6 +82,15 @@ FrameData extract(const Frame& frame, Field field) {
   if (dim == 3) d.z.resize(n);
   d.value.resize(n);
   d.kind = frame.kind();
+  // The case's own walls (bodies from 2 on: a gate, a paddle, a floating body) are drawn apart from the
+  // tank's.
+  const bool bodies = std::any_of(frame.fields.begin(), frame.fields.end(),
+                                  [](const FrameField& f) { return f.short_name == "body"; });
+  if (bodies) {
+    const auto& body = frame.body();
+    for (std::size_t i = 0; i < n; ++i)
+      if (d.kind[i] != 0 && body[i] >= 2) d.kind[i] = 2;
+  }
   const auto& position = frame.position();
   const auto& velocity = frame.velocity();
   const auto& pressure = frame.pressure();

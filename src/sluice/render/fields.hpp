@@ -40,7 +40,7 @@ struct FrameData {
   int dimension = 2;
   std::vector<float> x, y, z, value;
   std::vector<float> depth;  // empty unless seen by a camera
-  std::vector<std::uint8_t> kind;  // 0 fluid, 1 wall
+  std::vector<std::uint8_t> kind;  // 0 fluid, 1 the tank's walls, 2 a [[wall]]'s (a body's)
   [[nodiscard]] std::size_t size() const { return x.size(); }
 };
 

@@ -228,14 +228,14 @@ std::uint8_t FrameRenderer::bar_index(double t) const {
 void FrameRenderer::draw_flat(IndexedImage& image, const FrameData& frame) const {
   const Layout& L = layout_;
   const double radius = disc_radius(frame.dx * L.scale);
-  const std::uint8_t wall = Palette::grey(wall_grey);
+  const std::uint8_t wall = Palette::grey(wall_grey), body = Palette::grey(body_grey);
   const double span = range_.hi - range_.lo;
   for (int pass = 0; pass < 2; ++pass)
     for (std::size_t i = 0; i < frame.size(); ++i) {
       const bool is_wall = frame.kind[i] != 0;
       if (is_wall != (pass == 0)) continue;
       const auto p = L.to_pixel(frame.x[i], frame.y[i]);
-      std::uint8_t index = wall;
+      std::uint8_t index = frame.kind[i] == 2 ? body : wall;
       if (!is_wall) {
         const float v = frame.value[i];
         index = std::isfinite(v) ? Palette::map_index((v - range_.lo) / span) : Palette::black;
@@ -249,13 +249,16 @@ void FrameRenderer::draw_spheres(IndexedImage& image, const FrameData& frame) co
   const Layout& L = layout_;
   const double radius = disc_radius(frame.dx * L.scale);
   const double span = range_.hi - range_.lo;
-  std::array<std::uint8_t, Palette::shade_levels> walls{}, ramp{};
-  for (int s = 0; s < Palette::shade_levels; ++s) walls[s] = Palette::grey(wall_ramp[s]);
+  std::array<std::uint8_t, Palette::shade_levels> walls{}, bodies{}, ramp{};
+  for (int s = 0; s < Palette::shade_levels; ++s) {
+    walls[s] = Palette::grey(wall_ramp[s]);
+    bodies[s] = Palette::grey(body_ramp[s]);
+  }
   for (std::size_t i = 0; i < frame.size(); ++i) {
     const auto p = L.to_pixel(frame.x[i], frame.y[i]);
     const double dim = far_dim + (1.0 - far_dim) * frame.depth[i];
     if (frame.kind[i] != 0) {
-      fill_sphere(image, p[0], p[1], radius, dim, walls, L.plot);
+      fill_sphere(image, p[0], p[1], radius, dim, frame.kind[i] == 2 ? bodies : walls, L.plot);
       continue;
     }
     const float v = frame.value[i];

@@ -57,6 +57,9 @@ class FrameRenderer {
   static constexpr int wall_grey = 13;  // grey level of walls (0 white .. 30 black): RGB 145
   // Grey levels of walls seen by a camera, dark to light (RGB 179 to 230): faint behind the water.
   static constexpr std::array<int, Palette::shade_levels> wall_ramp = {9, 7, 5, 3};
+  // The case's [[wall]] bodies (a gate, a paddle, a floating body), darker than the tank's walls.
+  static constexpr int body_grey = 20;
+  static constexpr std::array<int, Palette::shade_levels> body_ramp = {17, 15, 13, 11};
   // The brightness factor of the farthest particles seen by a camera (the nearest: 1).
   static constexpr double far_dim = 0.6;
 

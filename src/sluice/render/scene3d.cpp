@@ -103,7 +103,7 @@ FrameData CameraScene::view(const FrameData& frame) const {
   std::vector<Projected> projected(frame.size());
   for (std::size_t i = 0; i < frame.size(); ++i) {
     const Vec3 p = position(frame, i);
-    if (frame.kind[i] != 0 && hidden_wall(p)) continue;
+    if (frame.kind[i] == 1 && hidden_wall(p)) continue;  // a body ([[wall]], kind 2) is never cut away
     projected[i] = projection_(p);
     if (std::isfinite(projected[i].depth))
       order.emplace_back(projected[i].depth, static_cast<std::uint32_t>(i));
