@@ -30,7 +30,7 @@ run() {  # label, case file
   local out
   out=$("$sluice" run "$2" -q --threads 1 -o "$work/$1" "${extra[@]}")
   rm -rf "${work:?}/$1"
-  echo "$out" | awk '/loop time/ {t = $3} /steps/ {s = $2} /speed/ {for (i = 2; i <= NF; ++i) if ($i ~ /particle-evaluations/) e = $(i - 2)}
+  echo "$out" | awk '/loop time/ {t = $3} /^ *steps/ {s = $2} /speed/ {for (i = 2; i <= NF; ++i) if ($i ~ /particle-evaluations/) e = $(i - 2)}
                      END {print t, s, e}'
 }
 floating_sum=0 held_sum=0

@@ -190,6 +190,111 @@ TEST(FloatingBodies, ThreadsAndRestartsGiveTheSameBits) {
   }
 }
 
+// The bodies of `sim` that float: their states and masses, in body order.
+std::vector<std::pair<FloatingState, FloatingModel>> floaters(const Simulation& sim) {
+  std::vector<std::pair<FloatingState, FloatingModel>> v;
+  sim.visit([&](const auto& solver) {
+    for (const auto& body : solver.bodies().list())
+      if (body.floats) v.emplace_back(body.floating.state(), body.floating.model());
+  });
+  return v;
+}
+
+// A nearly dry tank (a puddle in the far corner) for bodies to meet its walls and each other.
+std::string dry_tank(const std::string& gravity, const std::string& walls) {
+  return R"(
+[domain]
+dx = 0.02
+[tank]
+width = 2.0
+height = 1.0
+[fluid]
+sound_speed = 20.0
+[physics]
+gravity = )" + gravity + R"(
+[time]
+end = 0.8
+[[water]]
+min = [0.0, 0.0]
+max = [0.1, 0.04]
+)" + walls;
+}
+
+// Contact: a box dropped onto the tank's floor from 0.3 m lands without passing into it and rests
+// on it, its bottom within a hundredth of a spacing of the floor, the contacts carrying its weight.
+// Without contact it falls through the floor and the run stops.
+TEST(FloatingBodies, ABoxDroppedOnTheFloorRestsOnIt) {
+  const Case c = parse_case(dry_tank("[0.0, -9.81]", R"(
+[[wall]]
+name = "box"
+min = [1.4, 0.3]
+max = [1.8, 0.5]
+[wall.floating]
+density = 500.0
+friction = 0.3
+)"),
+                            "drop.toml");
+  Simulation sim(c, 2);
+  double lowest = 1.0;
+  while (sim.time() < c.end_time) {
+    sim.step(c.end_time);
+    lowest = std::min(lowest, floaters(sim)[0].first.centre[1] - 0.1);
+    ASSERT_TRUE(sim.check_health().ok()) << sim.check_health().wall_outside;
+  }
+  const auto [s, m] = floaters(sim)[0];
+  EXPECT_NEAR(s.centre[1] - 0.1, 0.0, 0.01 * c.dx);
+  EXPECT_GT(lowest, -0.25 * c.dx);  // the landing at 2.4 m/s presses in by less than a quarter spacing
+  EXPECT_NEAR(s.contact_force[1], m.mass * 9.81, 0.01 * m.mass * 9.81);
+  EXPECT_NEAR(s.velocity[1], 0.0, 1e-3);
+}
+
+// Two floating boxes meet off-centre without water or gravity: linear momentum is kept to round-off
+// and angular momentum to the integrator's error (each body receives the reaction of the forces it
+// exerts, at the same point), they part more slowly than they met
+// (the contact's damping), and both turn.
+TEST(FloatingBodies, TwoBodiesCollideKeepingMomentum) {
+  const Case c = parse_case(dry_tank("[0.0, 0.0]", R"(
+[[wall]]
+name = "a"
+min = [0.6, 0.4]
+max = [0.8, 0.6]
+[wall.floating]
+density = 500.0
+velocity = [1.0, 0.0]
+[[wall]]
+name = "b"
+min = [1.0, 0.45]
+max = [1.3, 0.65]
+[wall.floating]
+density = 800.0
+)"),
+                            "collide.toml");
+  Simulation sim(c, 1);
+  const auto momenta = [](const Simulation& s) {
+    std::array<double, 3> p{};  // x, y, and about the origin
+    for (const auto& [st, m] : floaters(s)) {
+      p[0] += m.mass * st.velocity[0];
+      p[1] += m.mass * st.velocity[1];
+      p[2] += m.inertia[2] * st.omega[2] + m.mass * (st.centre[0] * st.velocity[1] - st.centre[1] * st.velocity[0]);
+    }
+    return p;
+  };
+  const auto before = momenta(sim);
+  while (sim.time() < 0.5) sim.step(0.5);
+  const auto after = momenta(sim);
+  // Linear momentum to round-off; angular momentum to the integrator's error (the moment arms move
+  // within a step): 6e-9 of it measured.
+  EXPECT_NEAR(after[0], before[0], 1e-12 * std::abs(before[0]));
+  EXPECT_NEAR(after[1], before[1], 1e-12 * std::abs(before[0]));
+  EXPECT_NEAR(after[2], before[2], 1e-7 * std::abs(before[2]));
+  const auto f = floaters(sim);
+  const double parting = f[1].first.velocity[0] - f[0].first.velocity[0];
+  EXPECT_GT(parting, 0.05);
+  EXPECT_LT(parting, 1.0);
+  EXPECT_GT(std::abs(f[0].first.omega[2]), 0.1);
+  EXPECT_GT(std::abs(f[1].first.omega[2]), 0.1);
+}
+
 TEST(FloatingBodies, ABodyOutsideTheTankOrInAnotherWallAtTheStartIsRefused) {
   const auto refusal = [](const Case& c) {
     try {
@@ -228,14 +333,14 @@ TEST(FloatingBodies, ItsSeriesHoldsTheMotionAndTheLoads) {
   std::getline(in, header);
   EXPECT_EQ(header,
             "time,x,y,angle,vx,vy,angular_velocity,fx,fy,moment,spring_fx,spring_fy,spring_moment,damper_fx,"
-            "damper_fy,damper_moment");
+            "damper_fy,damper_moment,contact_fx,contact_fy,contact_moment");
   int rows = 0;
   while (std::getline(in, line)) last = line, ++rows;
   EXPECT_GT(rows, 100);
   std::vector<double> v;
   std::stringstream fields(last);
   for (std::string f; std::getline(fields, f, ',');) v.push_back(std::stod(f));
-  ASSERT_EQ(v.size(), 16u);
+  ASSERT_EQ(v.size(), 19u);
   EXPECT_DOUBLE_EQ(v[0], 0.2);
   EXPECT_LT(v[2], 0.55);  // it has fallen into the water
   EXPECT_GT(v[8], 100.0);  // buoyed

@@ -123,6 +123,7 @@ struct FloatingSpec {
   std::vector<double> anchor;              // per degree of freedom: where its spring is at rest (m, deg)
   Vec3 force{};                            // N: a constant external force (a weight added, a tow)
   std::vector<double> moment;              // N m about the centre of gravity: 2D [Mz]; 3D [Mx, My, Mz]
+  double friction = 0.0;                   // Coulomb friction coefficient of its contacts with other solids
 };
 
 // The names of the degrees of freedom of a floating body, in the order of its per-degree vectors.

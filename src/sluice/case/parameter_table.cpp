@@ -473,6 +473,9 @@ const std::vector<Param<FloatingSpec>>& floating_params() {
               "A constant external force on the centre of gravity (a weight added, a tow), besides gravity."),
       declare("moment", &F::moment, "N m", none, unbounded_lower, unbounded_upper,
               "A constant external moment about the centre of gravity: [Mz] in 2D, [Mx, My, Mz] in 3D; empty: none."),
+      declare("friction", &F::friction, "", 0.0, 0.0, 10.0,
+              "Coulomb friction coefficient of the body's contacts with the tank, other walls and other floating "
+              "bodies (the tangential force at most this times the normal one); 0: frictionless."),
   };
   return params;
 }

@@ -181,9 +181,12 @@ FloatingBody::Restraint FloatingBody::restraint() const {
   return r;
 }
 
-void FloatingBody::set_load(const Vec3& water_force, const Vec3& water_moment) {
+void FloatingBody::set_load(const Vec3& water_force, const Vec3& water_moment, const Vec3& contact_force,
+                            const Vec3& contact_moment) {
   state_.water_force = water_force;
   state_.water_moment = water_moment;
+  state_.contact_force = contact_force;
+  state_.contact_moment = contact_moment;
   accelerate();
 }
 
@@ -191,8 +194,8 @@ void FloatingBody::accelerate() {
   const Restraint r = restraint();
   FloatingState& s = state_;
   for (int k = 0; k < 3; ++k) {
-    const double f = s.water_force[k] + model_.mass * model_.gravity[k] + model_.force[k] + r.spring_force[k] +
-                     r.damper_force[k];
+    const double f = s.water_force[k] + s.contact_force[k] + model_.mass * model_.gravity[k] + model_.force[k] +
+                     r.spring_force[k] + r.damper_force[k];
     s.acceleration[k] = model_.free[k] ? f / model_.mass : 0.0;
   }
   const Mat3 I = turned(rotation_matrix(s.orientation), matrix_of(model_.inertia));
@@ -200,7 +203,8 @@ void FloatingBody::accelerate() {
   Mat3 A = I;
   Vec3 b{};
   for (int k = 0; k < 3; ++k) {
-    b[k] = s.water_moment[k] + model_.moment[k] + r.spring_moment[k] + r.damper_moment[k] - gyroscopic[k];
+    b[k] = s.water_moment[k] + s.contact_moment[k] + model_.moment[k] + r.spring_moment[k] + r.damper_moment[k] -
+           gyroscopic[k];
     if (model_.free[3 + k]) continue;
     A[k] = {0.0, 0.0, 0.0};
     A[k][k] = 1.0;
@@ -237,6 +241,8 @@ void FloatingBody::correct(double dt) {
   state_.angular_acceleration = half.angular_acceleration;
   state_.water_force = half.water_force;
   state_.water_moment = half.water_moment;
+  state_.contact_force = half.contact_force;
+  state_.contact_moment = half.contact_moment;
 }
 
 void FloatingBody::kick_drift(double dt) {
@@ -306,6 +312,8 @@ std::array<double, FloatingState::packed_size> FloatingBody::packed() const {
   put(state_.angular_acceleration);
   put(state_.water_force);
   put(state_.water_moment);
+  put(state_.contact_force);
+  put(state_.contact_moment);
   return v;
 }
 
@@ -323,6 +331,8 @@ void FloatingBody::unpack(const double* values) {
   get(state_.angular_acceleration);
   get(state_.water_force);
   get(state_.water_moment);
+  get(state_.contact_force);
+  get(state_.contact_moment);
   start_ = state_;
 }
 

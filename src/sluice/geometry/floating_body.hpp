@@ -48,7 +48,8 @@ struct FloatingState {
   Vec3 omega{};                               // angular velocity, world axes (rad/s)
   Vec3 acceleration{}, angular_acceleration{};  // of the last evaluation's loads
   Vec3 water_force{}, water_moment{};         // the water's, of the last evaluation (moment about the centre)
-  static constexpr std::size_t packed_size = 25;
+  Vec3 contact_force{}, contact_moment{};     // the contacts', likewise
+  static constexpr std::size_t packed_size = 31;
 };
 
 class FloatingBody {
@@ -60,9 +61,10 @@ class FloatingBody {
   [[nodiscard]] const FloatingModel& model() const { return model_; }
   [[nodiscard]] const FloatingState& state() const { return state_; }
 
-  // The water's force and moment (about the centre of gravity) on the body in its current state: its
-  // accelerations follow.
-  void set_load(const Vec3& water_force, const Vec3& water_moment);
+  // The water's force and moment (about the centre of gravity) on the body in its current state, and
+  // its contacts' with other solids: its accelerations follow.
+  void set_load(const Vec3& water_force, const Vec3& water_moment, const Vec3& contact_force = {},
+                const Vec3& contact_moment = {});
 
   // Forward Euler with the accelerations of the current state.
   void euler(double dt);

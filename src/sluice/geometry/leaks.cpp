@@ -29,6 +29,7 @@ SolidReach<Dim>::SolidReach(const Solids<Dim>& solids, const Vec<Dim>& lower, co
     return total;
   };
   while (cells_of(cell) > max_cells) cell *= 1.5;
+  cell_ = cell;
   inv_cell_ = 1.0 / cell;
   const double half_diagonal = 0.5 * cell * std::sqrt(static_cast<double>(Dim));
   const std::size_t total = cells_of(cell);
@@ -51,6 +52,38 @@ SolidReach<Dim>::SolidReach(const Solids<Dim>& solids, const Vec<Dim>& lower, co
         clear_[c] = 0;
         break;
       }
+    }
+  }
+}
+
+template <int Dim>
+void SolidReach<Dim>::update(const std::vector<const Solid<Dim>*>& moving) {
+  if (clear_.empty()) return;
+  for (const std::size_t c : marked_) clear_[c] = 1;
+  marked_.clear();
+  const double half_diagonal = 0.5 * cell_ * std::sqrt(static_cast<double>(Dim));
+  for (const Solid<Dim>* s : moving) {
+    std::array<int, Dim> first{}, last{};
+    for (int d = 0; d < Dim; ++d) {
+      const double grow = reach_ + half_diagonal;
+      first[d] = std::clamp(static_cast<int>(std::floor((s->lower()[d] - grow - lower_[d]) * inv_cell_)), 0, count_[d] - 1);
+      last[d] = std::clamp(static_cast<int>(std::floor((s->upper()[d] + grow - lower_[d]) * inv_cell_)), 0, count_[d] - 1);
+    }
+    std::array<int, Dim> i = first;
+    while (true) {
+      std::size_t c = 0;
+      Vec<Dim> centre{};
+      for (int d = Dim - 1; d >= 0; --d) {
+        c = c * static_cast<std::size_t>(count_[d]) + static_cast<std::size_t>(i[d]);
+        centre[d] = lower_[d] + (i[d] + 0.5) * cell_;
+      }
+      if (clear_[c] && !(s->signed_distance(centre) - half_diagonal > reach_)) {
+        clear_[c] = 0;
+        marked_.push_back(c);
+      }
+      int d = 0;
+      while (d < Dim && ++i[d] > last[d]) i[d] = first[d], ++d;
+      if (d == Dim) break;
     }
   }
 }

@@ -60,6 +60,10 @@ class SolidReach {
     return l;
   }
   [[nodiscard]] bool clear(const Vec<Dim>& x) const { return lookup()(x); }
+  // The cells near `moving` (solids that go where the water takes them: floating bodies) where they
+  // are now, besides the cells near the solids it was built with; the previous call's marks are
+  // undone first. Only the cells around each solid's bounding box are visited.
+  void update(const std::vector<const Solid<Dim>*>& moving);
   [[nodiscard]] double reach() const { return reach_; }
   // The fraction of the cells that are clear (for tests and diagnostics).
   [[nodiscard]] double clear_fraction() const;
@@ -69,7 +73,9 @@ class SolidReach {
   std::array<int, Dim> count_{};
   double inv_cell_ = 0.0;
   double reach_ = 0.0;
+  double cell_ = 0.0;
   std::vector<std::uint8_t> clear_;
+  std::vector<std::size_t> marked_;  // the cells the last update() marked, clear without it
 };
 
 // Returns the number of particles put back. With `near`, only particles outside its clear cells are

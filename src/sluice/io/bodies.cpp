@@ -19,9 +19,10 @@ std::string body_header(int dimension) {
 std::string floating_body_header(int dimension) {
   if (dimension == 2)
     return "time,x,y,angle,vx,vy,angular_velocity,fx,fy,moment,spring_fx,spring_fy,spring_moment,damper_fx,damper_fy,"
-           "damper_moment";
+           "damper_moment,contact_fx,contact_fy,contact_moment";
   return "time,x,y,z,qw,qx,qy,qz,roll,pitch,yaw,vx,vy,vz,wx,wy,wz,fx,fy,fz,mx,my,mz,spring_fx,spring_fy,spring_fz,"
-         "spring_mx,spring_my,spring_mz,damper_fx,damper_fy,damper_fz,damper_mx,damper_my,damper_mz";
+         "spring_mx,spring_my,spring_mz,damper_fx,damper_fy,damper_fz,damper_mx,damper_my,damper_mz,contact_fx,"
+         "contact_fy,contact_fz,contact_mx,contact_my,contact_mz";
 }
 
 namespace {
@@ -55,6 +56,8 @@ std::string floating_row(const FloatingBody& body) {
   put_moment(r.spring_moment);
   put(r.damper_force, Dim);
   put_moment(r.damper_moment);
+  put(s.contact_force, Dim);
+  put_moment(s.contact_moment);
   return row;
 }
 

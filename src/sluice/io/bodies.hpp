@@ -3,7 +3,7 @@
 // (degrees), their rates, and the force and moment the water exerts on it (Solver::body_load). A
 // floating body's row has its centre of gravity, its orientation (the angle in 2D; the quaternion
 // and roll, pitch and yaw in 3D), its velocities, the water's force and moment about the centre of
-// gravity that moved it, and its springs' and dampers' forces and moments.
+// gravity that moved it, its springs' and dampers' forces and moments, and its contacts'.
 #pragma once
 
 #include <filesystem>

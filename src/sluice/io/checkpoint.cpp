@@ -299,7 +299,7 @@ Checkpoint parse_checkpoint(const std::string& bytes, const std::string& source)
   // Version 7 keeps the floating bodies' states (before it there were none).
   if (version >= 7) {
     const auto n = r.get<std::uint32_t>();
-    if (n > 25 * 255) r.refuse(fmt::format("{} values of floating bodies' state, more than 255 walls hold", n));
+    if (n > FloatingState::packed_size * 255) r.refuse(fmt::format("{} values of floating bodies' state, more than 255 walls hold", n));
     for (std::uint32_t k = 0; k < n; ++k) {
       const double v = r.get<double>();
       if (!std::isfinite(v)) r.refuse(fmt::format("a floating body's state value {} is not a finite number", v));

@@ -52,6 +52,14 @@ class Bodies {
     // A floating body ([wall.floating]): moved by its dynamics, not by laws.
     bool floats = false;
     FloatingBody floating;
+    double friction = 0.0;  // its contacts' Coulomb coefficient
+  };
+
+  // A floating body's contacts: the force (N; N/m in 2D) and moment about its centre of gravity that
+  // the other solids exert on it where its particles come closer to them than half a spacing.
+  struct ContactLoad {
+    Vec3 force{}, moment{};
+    int points = 0;
   };
 
   Bodies() = default;
@@ -66,6 +74,7 @@ class Bodies {
     bodies_[body_id::tank].name = "tank";
     for (std::size_t b = 0; b < bodies_.size(); ++b) bodies_[b].id = static_cast<std::uint8_t>(b);
     motion_.moving.assign(bodies_.size(), 0);
+    contact_reach_ = 0.5 * c.dx;
     motion_.state.assign(bodies_.size(), BodyState<Dim>{});
     motion_.lower.assign(bodies_.size(), Vec<Dim>{});
     motion_.upper.assign(bodies_.size(), Vec<Dim>{});
@@ -92,6 +101,7 @@ class Bodies {
         body.floats = true;
         body.floating = FloatingBody(floating_model(wall.floating, mass_properties(wall, Dim), Dim, c.gravity),
                                      wall.floating);
+        body.friction = wall.floating.friction;
         std::shared_ptr<const Solid<Dim>>& shape = solids[solids.size() - walls + k];
         body.solid = std::make_shared<MovingSolid<Dim>>(shape);
         shape = body.solid;
@@ -180,6 +190,123 @@ class Bodies {
       body.motion.absorber->unpack(v.data() + k);
       k += AbsorbingLaw::state_size;
     }
+  }
+
+  // The contacts of each floating body (in body order) with the other solids of `solids` (the
+  // set-up's, the walls' the last `walls` of them, a floating wall's its MovingSolid) at the bodies'
+  // current poses. A particle of a floating body whose centre is closer than dx/2 to another solid's
+  // surface (the body's surface, half a spacing beyond its outer particles, then touches it) by
+  // delta = dx/2 - d is pushed out along that surface's normal n by
+  //   F_n = max(0, k delta - c (u . n)),     F_t = -min(mu F_n, c |u_t|) u_t / |u_t|,
+  // u the particle's velocity relative to the solid's surface there: k = `stiffness` per particle (the
+  // water's own stiffness at a particle, rho0 c0^2 dx^(Dim-2), which the time step already resolves),
+  // c = sqrt(k M / n) for the body's mass M shared by its n points in contact (half the critical
+  // damping of each), mu the body's friction. Between two floating bodies each point of either is
+  // tested against the other, and each body receives the reaction of the forces it exerts. A function
+  // of the poses alone: every process computes it alike.
+  [[nodiscard]] std::vector<ContactLoad> contact_loads(const Solids<Dim>& solids, std::size_t walls, double dx,
+                                                       double stiffness) const {
+    std::vector<ContactLoad> loads(bodies_.size());
+    const double reach = 0.5 * dx;
+    const std::size_t first_wall = solids.size() - walls;
+    const auto apart = [&](const Solid<Dim>& a, const Solid<Dim>& s) {
+      for (int d = 0; d < Dim; ++d)
+        if (a.lower()[d] > s.upper()[d] + reach || a.upper()[d] < s.lower()[d] - reach) return true;
+      return false;
+    };
+    const auto add = [&](std::size_t b, const Vec<Dim>& at, const Vec3& f) {
+      const BodyState<Dim>& s = motion_.state[b];
+      Vec3 r{}, force = f;
+      for (int d = 0; d < Dim; ++d) r[d] = at[d] - s.centre[d] - s.displacement[d];
+      loads[b].force = loads[b].force + force;
+      loads[b].moment = loads[b].moment + Vec3{r[1] * f[2] - r[2] * f[1], r[2] * f[0] - r[0] * f[2], r[0] * f[1] - r[1] * f[0]};
+    };
+    for (const Body& body : bodies_) {
+      if (!body.floats) continue;
+      const Solid<Dim>& own = *body.solid;
+      // Its points in contact, with what they push against: found first, to share the damping.
+      struct Touch {
+        Vec<Dim> at, normal, relative;
+        double depth;
+        std::size_t other;  // the other body's id
+      };
+      std::vector<Touch> touches;
+      for (std::size_t k = 0; k < solids.size(); ++k) {
+        const Solid<Dim>& other = *solids[k];
+        if (&other == &own || apart(own, other)) continue;
+        // The other body's id: a wall's, or the tank's (its slabs and its moving walls are body 1).
+        const std::size_t other_id = k >= first_wall ? body_id::first_wall + (k - first_wall) : body_id::tank;
+        // A pair of floating bodies is taken once, from the lower id, each side's points tested.
+        const bool both_float = other_id < bodies_.size() && bodies_[other_id].floats;
+        if (both_float && other_id < body.id) continue;
+        // The points of `mover` against `against`; the reaction goes to `reacting` if it floats.
+        const auto test = [&](const Body& mover, const Solid<Dim>& against, std::size_t reacting, bool flip) {
+          for (const Vec<Dim>& start : mover.start) {
+            const PointMotion<Dim> m = point_motion<Dim>(motion_.state[mover.id], start);
+            bool near = true;
+            for (int d = 0; d < Dim; ++d)
+              near = near && m.position[d] > against.lower()[d] - reach && m.position[d] < against.upper()[d] + reach;
+            if (!near) continue;
+            const double distance = against.signed_distance(m.position);
+            if (!(distance < reach)) continue;
+            const SurfacePoint<Dim> surface = against.closest_surface_point(m.position);
+            const Vec<Dim> normal = surface.normal;  // outward: inside the solid, the way out
+            const Vec<Dim> relative = m.velocity - against.velocity_at(m.position);
+            Touch t{m.position, normal, relative, reach - distance, reacting};
+            if (flip) {
+              // A point of the other floating body pressing into this one: the force on this body is
+              // the reaction, at the same point, along -n.
+              t.normal = -1.0 * normal;
+              t.relative = -1.0 * relative;
+            }
+            touches.push_back(t);
+          }
+        };
+        test(body, other, other_id, false);
+        if (both_float) test(bodies_[other_id], own, other_id, true);
+      }
+      if (touches.empty()) continue;
+      const double mass = body.floating.model().mass;
+      const double damping = std::sqrt(stiffness * mass / static_cast<double>(touches.size()));
+      for (const Touch& t : touches) {
+        const double un = dot(t.relative, t.normal);
+        const double fn = std::max(0.0, stiffness * t.depth - damping * un);
+        Vec<Dim> f = fn * t.normal;
+        const Vec<Dim> ut = t.relative - un * t.normal;
+        const double speed = norm(ut);
+        if (body.friction > 0.0 && speed > 0.0) f = f - (std::min(body.friction * fn, damping * speed) / speed) * ut;
+        Vec3 f3{};
+        for (int d = 0; d < Dim; ++d) f3[d] = f[d];
+        add(body.id, t.at, f3);
+        loads[body.id].points += 1;
+        if (t.other < bodies_.size() && bodies_[t.other].floats) add(t.other, t.at, -1.0 * f3);
+      }
+    }
+    return loads;
+  }
+
+  // Boxes that hold everywhere a floating body may go: the tank's inside grown by `margin`, and above
+  // an open tank as far again as the body's size (where the cell grid must reach).
+  [[nodiscard]] Solids<Dim> floating_extent(double margin, const Vec3& tank, bool lid) const {
+    Solids<Dim> boxes;
+    for (const Body& body : bodies_) {
+      if (!body.floats) continue;
+      Vec<Dim> lo = body.solid->lower(), hi = body.solid->upper();
+      const double size = norm(hi - lo);
+      for (int d = 0; d < Dim; ++d) {
+        lo[d] = std::min(lo[d], 0.0) - margin;
+        hi[d] = std::max(hi[d], tank[d]) + margin + (d == Dim - 1 && !lid ? size : 0.0);
+      }
+      boxes.push_back(box_solid<Dim>(lo, hi));
+    }
+    return boxes;
+  }
+  // The floating bodies' solids where they are now.
+  [[nodiscard]] std::vector<const Solid<Dim>*> floating_solids() const {
+    std::vector<const Solid<Dim>*> solids;
+    for (const Body& body : bodies_)
+      if (body.floats) solids.push_back(body.solid.get());
+    return solids;
   }
 
   // Whether a body floats; f(body) for each floating one.
@@ -300,7 +427,8 @@ class Bodies {
   [[nodiscard]] std::string outside_tank(const Vec3& size, bool lid) const {
     for (const Body& body : bodies_) {
       if (!body.moves || body.id == body_id::tank) continue;
-      const Exit exit = exit_of(body, body.solid->lower(), body.solid->upper(), size, lid);
+      // A floating body in contact with the tank presses into it by a little: up to half a spacing.
+      const Exit exit = exit_of(body, body.solid->lower(), body.solid->upper(), size, lid, body.floats ? contact_reach_ : 0.0);
       if (!exit.what.empty()) return fmt::format("{} ({}){}", exit.what, exit.where, exit.hint);
     }
     return "";
@@ -336,22 +464,11 @@ class Bodies {
   // Boxes that hold everything each moving body's shape covers over the run (sampled, and grown by
   // the most a sample's bounds moved from the one before plus `margin`): where the leak and friction
   // checks must look, and where the cell grid must reach.
-  [[nodiscard]] Solids<Dim> swept(double end, double margin, const Vec3& tank, bool lid) const {
+  [[nodiscard]] Solids<Dim> swept(double end, double margin) const {
     Solids<Dim> boxes;
     constexpr int samples = 2000;
     for (const Body& body : bodies_) {
-      if (!body.moves) continue;
-      if (body.floats) {
-        // Anywhere in the tank, and above an open one by as much as the body is tall.
-        Vec<Dim> lo = body.solid->lower(), hi = body.solid->upper();
-        const double size = norm(hi - lo);
-        for (int d = 0; d < Dim; ++d) {
-          lo[d] = std::min(lo[d], 0.0) - margin;
-          hi[d] = std::max(hi[d], tank[d]) + margin + (d == Dim - 1 && !lid ? size : 0.0);
-        }
-        boxes.push_back(box_solid<Dim>(lo, hi));
-        continue;
-      }
+      if (!body.moves || body.floats) continue;
       // Up to when its laws settle, where they do, so that the box (and the grid that covers it) is
       // the same for a run and its restart with a later end.
       const double settled = settled_after(body.motion);
@@ -396,9 +513,10 @@ class Bodies {
       hi[d] += reach;
     }
   }
-  static Exit exit_of(const Body& body, const Vec<Dim>& lo, const Vec<Dim>& hi, const Vec3& size, bool lid) {
+  static Exit exit_of(const Body& body, const Vec<Dim>& lo, const Vec<Dim>& hi, const Vec3& size, bool lid,
+                      double allowed = 0.0) {
     constexpr int up = Dim - 1;
-    const double slack = 1e-9 * (1.0 + size[0]);
+    const double slack = 1e-9 * (1.0 + size[0]) + allowed;
     for (int d = 0; d < Dim; ++d) {
       const bool below = lo[d] < -slack, above = hi[d] > size[d] + slack && (d != up || lid);
       if (!below && !above) continue;
@@ -415,6 +533,7 @@ class Bodies {
 
   std::vector<Body> bodies_;
   WallMotion<Dim> motion_;
+  double contact_reach_ = 0.0;  // half a spacing: how close a floating body's particles come to a solid
   double time_ = 0.0;
 };
 

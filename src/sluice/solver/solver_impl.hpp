@@ -211,18 +211,21 @@ void Solver<Dim>::init(const Case& c, const Particles<Dim>& built) {
     upper[d] = size[d] + margin;
   }
   // A moving wall's reach: the box it sweeps over the run, in place of its shape.
-  const Solids<Dim> swept = bodies_.swept(c.end_time, 2.0 * h, c.tank_size(), c.tank_lid);
+  const Solids<Dim> swept = bodies_.swept(c.end_time, 2.0 * h);
   if (c.tank_moves()) tank_swept_ = std::pair{swept.front()->lower(), swept.front()->upper()};
   Solids<Dim> reach_solids;
   for (const auto& solid : solids_)
     if (!dynamic_cast<const MovingSolid<Dim>*>(solid.get())) reach_solids.push_back(solid);
-  for (const auto& box : swept) {
-    reach_solids.push_back(box);
+  for (const auto& box : swept) reach_solids.push_back(box);
+  // A floating body's reach is marked where it is at each stage (advance_walls), not over the whole
+  // tank it may go to, which would leave no water clear of the checks.
+  Solids<Dim> extent = swept;
+  for (const auto& box : bodies_.floating_extent(2.0 * h, size, c.tank_lid)) extent.push_back(box);
+  for (const auto& box : extent)
     for (int d = 0; d < Dim; ++d) {
       lower[d] = std::min(lower[d], box->lower()[d]);
       upper[d] = std::max(upper[d], box->upper()[d]);
     }
-  }
   grid_ = CellGrid<Dim>(lower, upper, 2.0 * h);
   // The leak and wall-approach checks skip the water away from the walls (the wall-approach band is
   // dx/4 wide).
@@ -240,6 +243,11 @@ void Solver<Dim>::advance_walls(double t) {
   if (!bodies_.any_moving()) return;
   bodies_.set_time(t);
   bodies_.place(particles_, threads_);
+  if (bodies_.floats()) {
+    const auto floating = bodies_.floating_solids();
+    solid_reach_.update(floating);
+    friction_reach_.update(floating);
+  }
   if (ghosts_) {
     for (const auto& body : bodies_.list()) {
       if (!body.moves) continue;
@@ -479,11 +487,14 @@ void Solver<Dim>::finish_step(const StepSize& size, double time_limit) {
 template <int Dim>
 void Solver<Dim>::load_floating() {
   if (!bodies_.floats()) return;
+  // A contact as stiff as the water at a particle: rho0 c0^2 dx^(Dim - 2).
+  const double stiffness = case_.rest_density * case_.sound_speed * case_.sound_speed * std::pow(case_.dx, Dim - 2);
+  const auto contacts = bodies_.contact_loads(solids_, case_.walls.size(), case_.dx, stiffness);
   bodies_.each_floating([&](auto& body) {
     const BodyLoad load = body_load(body.id);
     Vec3 force{};
     for (int d = 0; d < Dim; ++d) force[d] = load.force[d];
-    body.floating.set_load(force, load.moment);
+    body.floating.set_load(force, load.moment, contacts[body.id].force, contacts[body.id].moment);
   });
   clock_.floating = bodies_.floating_state();
 }
