@@ -7,8 +7,9 @@
 //   ntnu_roll_decay   the same started with a roll rate of 20 deg/s: its roll period against 1.26 s
 //
 // A decay's period is the mean interval between the upward crossings of the motion's mean (its mean
-// over the run's second half); its damping ratio, stated, is log(a_k / a_k+1) / (2 pi) over its
-// successive maxima, the mean over the first three.
+// over the run's second half; a crossing counted once the motion has been 5 % of its largest
+// excursion below it); its damping ratio, stated, is log(a_k / a_k+1) / (2 pi) over its successive
+// maxima, the mean over the first three.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -89,10 +90,20 @@ DecayMeasure measure_decay(const Series& s) {
   DecayMeasure m;
   if (s.t.size() < 3) return m;
   m.mean = mean_from(s, 0.5 * s.t.back());
+  // An upward crossing counts once the motion has been below the mean by 5 % of its largest
+  // excursion: the noise of a decayed motion about its mean crosses it many times.
+  double largest = 0.0;
+  for (double v : s.y) largest = std::max(largest, std::abs(v - m.mean));
+  const double band = 0.05 * largest;
   std::vector<double> ups;
+  bool below = false;
   for (std::size_t i = 1; i < s.t.size(); ++i) {
     const double a = s.y[i - 1] - m.mean, b = s.y[i] - m.mean;
-    if (a < 0.0 && b >= 0.0) ups.push_back(s.t[i - 1] + (s.t[i] - s.t[i - 1]) * (-a) / (b - a));
+    below = below || a < -band;
+    if (below && a < 0.0 && b >= 0.0) {
+      ups.push_back(s.t[i - 1] + (s.t[i] - s.t[i - 1]) * (-a) / (b - a));
+      below = false;
+    }
   }
   if (ups.size() >= 2) {
     m.cycles = static_cast<int>(ups.size()) - 1;
