@@ -244,6 +244,22 @@ TEST(QuickValidation, AFloatingBoxSettlesAtItsDraft) {
   EXPECT_LE(c.at("floating_box.draft"), 6.0);
   const std::string html = read_text(dir / "out" / "report.html");
   EXPECT_NE(html.find("box bottom (sluice)"), std::string::npos);
+  // Afloat, the water's vertical force carries the box's weight, 500 x 0.3 x 0.2 x 9.81 N/m, within
+  // 1 % on average from 2 s on.
+  std::ifstream body(dir / "out" / "runs" / "floating_box" / "bodies" / "box.csv");
+  std::string line;
+  std::getline(body, line);
+  double sum = 0.0;
+  int n = 0;
+  while (std::getline(body, line)) {
+    std::vector<double> v;
+    std::stringstream fields(line);
+    for (std::string f; std::getline(fields, f, ',');) v.push_back(std::stod(f));
+    if (v.size() > 8 && v[0] >= 2.0) sum += v[8], ++n;
+  }
+  ASSERT_GT(n, 0);
+  const double weight = 500.0 * 0.3 * 0.2 * 9.81;
+  EXPECT_NEAR(sum / n, weight, 0.01 * weight);
   std::error_code ec;
   fs::remove_all(dir, ec);
 }

@@ -2,8 +2,8 @@
 //
 //   floating_box      the built-in box of density 500 kg/m^3, 0.2 m tall: its draft (the water level at
 //                     its gauge less its bottom, both averaged from 2 s on) against half its height
-//   ntnu_heave_decay  the NTNU section in the still flume (the flap at rest) started with a heave
-//                     velocity of 0.1 m/s: its heave period against the measured 1.17 s
+//   ntnu_heave_decay  the NTNU section in the still flume (the flap at rest) at dx = 0.01 m, started
+//                     with a heave velocity of 0.1 m/s: its heave period against the measured 1.17 s
 //   ntnu_roll_decay   the same started with a roll rate of 20 deg/s: its roll period against 1.26 s
 //
 // A decay's period is the mean interval between the upward crossings of the motion's mean (its mean
@@ -139,7 +139,8 @@ bool is_body_case(const std::string& case_name) {
 
 ValidationCaseSource body_case_source(const std::string& case_name) {
   if (const Decay* d = decay_of(case_name))
-    return {"ntnu_section", {"wall[1].rotation.time_offset=1000", d->start, "time.end=6", "output.interval=0.5"}};
+    return {"ntnu_section",
+            {"wall[1].rotation.time_offset=1000", d->start, "domain.dx=0.01", "time.end=6", "output.interval=0.5"}};
   return {case_name, {}};
 }
 
