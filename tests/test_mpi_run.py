@@ -167,6 +167,26 @@ def test_a_moving_tank_across_the_processes_matches_one_process():
         check(worst < POSITION_TOLERANCE, f"moving tank, {processes} processes: positions differ by {worst} m")
 
 
+def test_a_floating_body_across_the_processes_matches_one_process():
+    # floating_box, coarsened: the box falls into the water across the processes' boundary (its load is
+    # summed over the processes, each counting only the particles it owns, not its ghosts).
+    box = ["floating_box", "--set", "domain.dx=0.02", "--set", "time.end=0.2", "--set", "output.interval=0.1"]
+    reference = os.path.join(W, "box_serial")
+    run(args.sluice, *box, "-o", reference)
+    for processes in (2, 3):
+        d = os.path.join(W, f"box_np{processes}")
+        mpirun(processes, *box, "-o", d)
+        worst = largest_difference(reference, d, f"floating box, {processes} processes vs 1")
+        ha, va = load_csv(os.path.join(reference, "bodies", "box.csv"))
+        hb, vb = load_csv(os.path.join(d, "bodies", "box.csv"))
+        check(ha == hb and va.shape == vb.shape, f"floating box, {processes} processes: bodies/box.csv rows differ")
+        drift = float(np.max(np.abs(va[:, 1:3] - vb[:, 1:3])))
+        print(f"  floating box, {processes} processes: largest position difference from one process {worst:.3g} m, "
+              f"of its centre of gravity {drift:.3g} m", flush=True)
+        check(worst < POSITION_TOLERANCE and drift < POSITION_TOLERANCE,
+              f"floating box, {processes} processes: positions differ by {worst} m, the body's by {drift} m")
+
+
 def test_an_output_error_stops_every_process_with_one_message():
     blocker = os.path.join(W, "a_file")
     with open(blocker, "w") as f:
@@ -250,6 +270,7 @@ main([test_frames_probes_and_diagnostics_match_one_process, test_two_processes_o
       test_checkpoint_of_three_processes_restarts_on_two_and_on_one,
       test_a_moving_gate_across_the_processes_matches_one_process,
       test_a_moving_tank_across_the_processes_matches_one_process,
+      test_a_floating_body_across_the_processes_matches_one_process,
       test_an_output_error_stops_every_process_with_one_message,
       test_an_unstable_run_stops_every_process_and_keeps_the_last_good_state,
       test_a_process_out_of_memory_stops_every_process_with_its_message,

@@ -569,8 +569,12 @@ typename Solver<Dim>::BodyLoad Solver<Dim>::body_load(std::uint8_t body) const {
   for (int d = 0; d < Dim; ++d) centre[d] = state.centre[d] + state.displacement[d];
   // Before the first evaluation there are no rates: no load.
   const bool rated = p.acceleration[0].size() == p.size() && evaluations_ > 0;
+  // Within a step (a floating body's load) the evaluation's ghosts are still mixed in: other
+  // processes' particles, whose loads their owners count.
+  const std::uint8_t* ghost =
+      distribution_ && distribution_->has_ghosts() ? distribution_->ghost_mask().data() : nullptr;
   for (std::size_t i = 0; rated && i < p.owned(); ++i) {
-    if (p.body[i] != body) continue;
+    if (p.body[i] != body || (ghost && ghost[i])) continue;
     Vec3 f{}, r{};
     for (int d = 0; d < Dim; ++d) {
       f[d] = settings_.mass * p.acceleration[d][i];
