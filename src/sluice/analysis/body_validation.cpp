@@ -14,11 +14,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <limits>
 #include <numbers>
-#include <sstream>
 
+#include "sluice/analysis/table.hpp"
 #include "sluice/analysis/validation.hpp"
 
 namespace fs = std::filesystem;
@@ -46,29 +45,9 @@ const Decay* decay_of(const std::string& name) {
   return nullptr;
 }
 
-// A column of a CSV file with a header (lines starting '#' skipped), against its first column.
+// A column of a bodies/<name>.csv file against its time.
 Series csv_column(const fs::path& file, const std::string& column) {
-  std::ifstream in(file);
-  if (!in) throw AnalysisError(fmt::format("{}: cannot be read (did the run finish?)", file.string()));
-  std::string line;
-  std::getline(in, line);
-  std::vector<std::string> header;
-  std::stringstream h(line);
-  for (std::string f; std::getline(h, f, ',');) header.push_back(f);
-  const auto at = std::find(header.begin(), header.end(), column);
-  if (at == header.end()) throw AnalysisError(fmt::format("{}: no column '{}'", file.string(), column));
-  const std::size_t k = static_cast<std::size_t>(at - header.begin());
-  Series s;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::vector<double> v;
-    std::stringstream fields(line);
-    for (std::string f; std::getline(fields, f, ',');) v.push_back(std::stod(f));
-    if (v.size() <= k) continue;
-    s.t.push_back(v[0]);
-    s.y.push_back(v[k]);
-  }
-  return s;
+  return read_csv_table(file).series("time", column);
 }
 
 double mean_from(const Series& s, double t0) {

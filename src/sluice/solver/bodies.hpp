@@ -102,18 +102,13 @@ class Bodies {
         body.floating = FloatingBody(floating_model(wall.floating, mass_properties(wall, Dim), Dim, c.gravity),
                                      wall.floating);
         body.friction = wall.floating.friction;
-        std::shared_ptr<const Solid<Dim>>& shape = solids[solids.size() - walls + k];
-        body.solid = std::make_shared<MovingSolid<Dim>>(shape);
-        shape = body.solid;
-        motion_.moving[body.id] = 1;
-        motion_.any = true;
-        continue;
+      } else {
+        // An absorbing piston measures the surface a kernel support and a spacing in front of its
+        // face, where the water's kernel sum is not cut by the piston's own particles.
+        const double g = norm(c.gravity) > 0.0 ? norm(c.gravity) : waves::kGravity;
+        body.motion = rigid_motion_of<Dim>(wall, g, 2.0 * c.smoothing_length() + c.dx);
+        body.depth = wall.translation.depth;
       }
-      // An absorbing piston measures the surface a kernel support and a spacing in front of its face,
-      // where the water's kernel sum is not cut by the piston's own particles.
-      const double g = norm(c.gravity) > 0.0 ? norm(c.gravity) : waves::kGravity;
-      body.motion = rigid_motion_of<Dim>(wall, g, 2.0 * c.smoothing_length() + c.dx);
-      body.depth = wall.translation.depth;
       std::shared_ptr<const Solid<Dim>>& shape = solids[solids.size() - walls + k];
       body.solid = std::make_shared<MovingSolid<Dim>>(shape);
       shape = body.solid;
