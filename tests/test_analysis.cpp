@@ -511,6 +511,29 @@ TEST(Validation, TheMovedComparisonFindsADifferenceInTiming) {
   EXPECT_GT(base.difference.rms, 0.1);
 }
 
+// A tracker that logs a harmonic heave tau late (or early) against accelerometers that see it on
+// time: tracker_delay finds tau from the two first harmonics, whatever the motion's own phase.
+TEST(Validation, TrackerDelayIsFoundFromTheHeaveAcceleration) {
+  const double period = 1.158, omega = 2.0 * std::numbers::pi / period, amplitude = 0.018;
+  for (const double tau : {-0.34, -0.1, 0.0, 0.024, 0.5}) {
+    for (const double phase : {0.3, 2.0, 5.5}) {
+      Series tracked, acceleration;
+      for (int i = 0; i <= 2000; ++i) {
+        const double t = 10.0 + 0.01 * i;
+        tracked.t.push_back(t);
+        tracked.y.push_back(0.9 + amplitude * std::cos(omega * (t - tau) - phase));
+        acceleration.t.push_back(t);
+        acceleration.y.push_back(-omega * omega * amplitude * std::cos(omega * t - phase));
+      }
+      EXPECT_NEAR(tracker_delay(tracked, acceleration, omega, 12.0, 12.0 + 8 * period), tau, 1e-9)
+          << "tau " << tau << ", phase " << phase;
+    }
+  }
+  // Less than a whole period to fit: an error, not a number.
+  const Series short_series{{0.0, 0.1, 0.2, 0.3, 0.4, 0.5}, {0.0, 1.0, 0.0, -1.0, 0.0, 1.0}};
+  EXPECT_THROW(tracker_delay(short_series, short_series, omega, 0.0, 0.5), AnalysisError);
+}
+
 TEST(Validation, BuchnerScalingAndImpactTimeRecoverTheDataThatWentIn) {
   const Case c = *load_builtin_case("buchner");
   const double H = c.water[0].max[1], g = -c.gravity[1];

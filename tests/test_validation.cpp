@@ -310,6 +310,15 @@ TEST(AnalysisCommands, BadInputIsAClearError) {
       {"validate --case floating_box --set wall[0].floating.density=0 --set wall[0].floating.mass=30",
        "the buoyancy check needs its floating box 'box' given by its density"},
       {"validate --bodies --waves", "--waves and --bodies: expected one of them"},
+      // The NTNU section in waves: held in 2062, free in 3061_1 and 3102_1, run to the window's end.
+      {"validate --case ntnu_forces_2062 --set 'wall[2].floating.lock=[\"x\"]'", "run 2062 held the model"},
+      {"validate --case ntnu_motions_3061_1 --set 'wall[2].floating.lock=[\"rz\"]'",
+       "the model was free in sway, heave and roll; nothing may be locked"},
+      {"validate --case ntnu_motions_3102_1 --set time.end=20", "the run must reach t = 26 s"},
+      {"validate --case ntnu_motions_3102_1 --set wall[1].rotation.time_offset=-13",
+       "must follow the record ntnu_flume2025_3102_1.csv from its time 12.04 s"},
+      {"validate --case floating_box_3d --set wall[0].floating.density=0 --set wall[0].floating.mass=9",
+       "the buoyancy check needs its floating box 'box' given by its density"},
       // The cases' wall function is refused with dynamic walls: the message says how to switch it off.
       {"validate --case buchner --set physics.wall_boundary=dynamic",
        "put physics.wall_friction=none before the walls"},

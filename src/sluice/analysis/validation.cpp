@@ -83,7 +83,8 @@ ValidationBounds full_bounds() {
   return {.mm_front_rms = 0.25, .mm_height_rms = 0.0, .ko_front_rms = 0.0, .buchner_pressure_rms = 0.20,
           .buchner_plateau_rms = 0.06, .buchner_impact = 0.2, .spheric2_impact = 0.02, .wave_height_percent = 5.0,
           .wave_period_percent = 1.0, .wave_reflection = 0.05, .ntnu_amplitude_percent = 5.0,
-          .ntnu_phase_degrees = 10.0, .buoyancy_percent = 1.0, .decay_period_percent = 5.0};
+          .ntnu_phase_degrees = 10.0, .buoyancy_percent = 1.0, .decay_period_percent = 5.0, .wave_force_percent = 10.0,
+          .motion_amplitude_percent = 15.0, .motion_phase_degrees = 20.0};
 }
 
 ValidationBounds quick_bounds() {
@@ -102,7 +103,8 @@ ValidationBounds quick_bounds() {
   return {.mm_front_rms = 0.25, .mm_height_rms = 0.03, .ko_front_rms = 0.30, .buchner_pressure_rms = 0.35,
           .buchner_plateau_rms = 0.10, .buchner_impact = 0.15, .spheric2_impact = 0.15, .wave_height_percent = 10.0,
           .wave_period_percent = 1.5, .wave_reflection = 0.06, .ntnu_amplitude_percent = 10.0,
-          .ntnu_phase_degrees = 90.0, .buoyancy_percent = 6.0, .decay_period_percent = 8.0};
+          .ntnu_phase_degrees = 90.0, .buoyancy_percent = 6.0, .decay_period_percent = 8.0, .wave_force_percent = 10.0,
+          .motion_amplitude_percent = 15.0, .motion_phase_degrees = 20.0};
 }
 
 const std::vector<std::string>& validation_case_names() {
@@ -726,7 +728,7 @@ ValidationResult run_and_evaluate(const std::string& name, const Case& c, const 
 ValidationReport run_validation(const ValidationOptions& options, std::ostream& log) {
   std::vector<std::string> names = options.cases;
   if (names.empty() && options.waves) names = wave_validation_cases();
-  if (names.empty() && options.bodies) names = body_validation_cases();
+  if (names.empty() && options.bodies) names = options.quick ? quick_body_validation_cases() : body_validation_cases();
   if (names.empty()) {
     names = default_validation_cases();
     if (options.three_d) names.push_back("spheric2");

@@ -94,6 +94,9 @@ struct ValidationBounds {
   double ntnu_phase_degrees;      // NTNU flume: |first-harmonic phase - measured| at each probe, degrees
   double buoyancy_percent;        // floating_box: |draft - rho_b/rho_w height| / that, %
   double decay_period_percent;    // NTNU section decays: |natural period - measured| / measured, %
+  double wave_force_percent;      // NTNU section held in waves: |force's first harmonic - measured| / measured, %
+  double motion_amplitude_percent;  // NTNU section free in waves: |motion's first harmonic - measured| / measured, %
+  double motion_phase_degrees;      // and |its phase - measured|, degrees
 };
 ValidationBounds full_bounds();
 ValidationBounds quick_bounds();
@@ -118,14 +121,21 @@ std::vector<std::string> quick_wave_sets(const std::string& case_name);
 void check_wave_case(const std::string& case_name, const Case& c);
 
 // The floating-body cases (analysis/body_validation.cpp), run by `sluice validate --bodies`: the
-// floating box's draft against Archimedes, the NTNU section's heave and roll decay periods.
+// floating box's draft against Archimedes (2D and 3D), the NTNU section's heave and roll decay
+// periods, its wave forces held in run 2062 and its motions free in runs 3061_1 and 3102_1; --quick
+// runs the first four (the wave runs take 20-40 minutes each).
 const std::vector<std::string>& body_validation_cases();
+const std::vector<std::string>& quick_body_validation_cases();
 bool is_body_case(const std::string& case_name);
 ValidationCaseSource body_case_source(const std::string& case_name);
 // --quick's overrides of a floating-body case: a coarser dx and a shorter run.
 std::vector<std::string> quick_body_sets(const std::string& case_name);
 // Throws AnalysisError when a floating-body case is no longer the one its data are for.
 void check_body_case(const std::string& case_name, const Case& c);
+// How far a record's motion tracker runs behind its accelerometers, in seconds (negative: ahead), from
+// the first harmonics over [t0, t1] at angular frequency omega: the delay that makes the tracked heave,
+// moved earlier by it, opposite the heave acceleration. In (-T/2, T/2].
+double tracker_delay(const Series& heave, const Series& heave_acceleration, double omega, double t0, double t1);
 ValidationResult evaluate_body_case(const std::string& case_name, const Case& c, const std::filesystem::path& run_dir,
                                     const ValidationBounds& b);
 

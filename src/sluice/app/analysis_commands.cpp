@@ -1,5 +1,6 @@
 // sluice analyze, sluice convergence, sluice validate: measurements on runs (sluice/analysis/).
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <omp.h>
 
 #include <algorithm>
@@ -315,8 +316,8 @@ Command add_validate_command(CLI::App& app) {
                 "section's heave and roll decay periods against the measured ones at dx = 0.01 m (over an hour a decay; "
                 "with --quick, dx = 0.02 m, about a quarter of an hour)");
   cmd->add_option("--case", args->cases,
-                  "Run only this validation case (repeatable): martin_moyce, koshizuka_oka, buchner, spheric2, "
-                  "wave_flume, ntnu_1021, ntnu_1062, ntnu_1102, floating_box, ntnu_heave_decay, ntnu_roll_decay");
+                  fmt::format("Run only this validation case (repeatable): {}",
+                              fmt::join(analysis::validation_case_names(), ", ")));
   cmd->add_option("--set", args->sets,
                   "Override a case key in every validation case, e.g. --set physics.wall_boundary=adami (repeatable; "
                   "applied after --quick's resolution)")
