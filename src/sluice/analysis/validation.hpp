@@ -123,7 +123,7 @@ void check_wave_case(const std::string& case_name, const Case& c);
 // The floating-body cases (analysis/body_validation.cpp), run by `sluice validate --bodies`: the
 // floating box's draft against Archimedes (2D and 3D), the NTNU section's heave and roll decay
 // periods, its wave forces held in run 2062 and its motions free in runs 3061_1 and 3102_1; --quick
-// runs the first four (the wave runs take 20-40 minutes each).
+// runs the 2D box and the decays (the 3D box and the wave runs take 20-60 minutes each).
 const std::vector<std::string>& body_validation_cases();
 const std::vector<std::string>& quick_body_validation_cases();
 bool is_body_case(const std::string& case_name);
