@@ -190,6 +190,8 @@ ValidationCaseSource body_case_source(const std::string& case_name) {
     if (w->held) sets.push_back(R"(wall[2].floating.lock=["x", "y", "rz"])");
     return {"ntnu_section", sets};
   }
+  // The 3D box's draft six spacings: within 0.2 % of Archimedes', where 0.02 m is 1.4 % short.
+  if (case_name == "floating_box_3d") return {case_name, {"domain.dx=0.016666666666666666"}};
   return {case_name, {}};
 }
 
@@ -198,7 +200,7 @@ std::vector<std::string> quick_body_sets(const std::string& case_name) {
   if (case_name == "floating_box") return {"domain.dx=0.02"};
   // The 3D box at its case's dx = 0.02 m: at 0.04 m it is 7.5 particles wide, placed off its centre,
   // and tips over.
-  if (case_name == "floating_box_3d") return {};
+  if (case_name == "floating_box_3d") return {"domain.dx=0.02"};
   if (decay_of(case_name)) return {"domain.dx=0.02", "time.end=4.5"};
   if (wave_run_of(case_name)) return {"domain.dx=0.02"};
   throw AnalysisError(fmt::format("no floating-body validation case '{}'", case_name));

@@ -314,9 +314,9 @@ Command add_validate_command(CLI::App& app) {
   cmd->add_flag("--bodies", args->bodies,
                 "Run the floating-body cases instead: the floating box's draft against Archimedes in 2D and 3D, the "
                 "NTNU section's heave and roll decay periods, its wave forces held in run 2062 and its motions free "
-                "in runs 3061_1 and 3102_1 against the laboratory's, the NTNU cases at dx = 0.01 m (over an hour a "
-                "decay, several hours a wave run); with --quick the 2D box and the decays at dx = 0.02 m, about a "
-                "quarter of an hour");
+                "in runs 3061_1 and 3102_1 against the laboratory's, the NTNU cases at dx = 0.01 m and the 3D box at "
+                "1/60 m (over an hour a decay or the 3D box, several hours a wave run); with --quick the 2D box and "
+                "the decays at dx = 0.02 m, about a quarter of an hour");
   cmd->add_option("--case", args->cases,
                   fmt::format("Run only this validation case (repeatable): {}",
                               fmt::join(analysis::validation_case_names(), ", ")));
