@@ -508,8 +508,7 @@ ValidationResult evaluate_wave_run(const std::string& case_name, const Case& c, 
                            fmt::format("The section's {} in the waves of run {}: sluice over the record.", m.what, run),
                            1});
       if (std::string(m.what) == "sway") {
-        const Series start = csv_column(bodies, "x");
-        const double sim_drift = h.sim.mean - start.y.front();
+        const double sim_drift = h.sim.mean - sim.y.front();
         const double measured_drift = h.measured.mean - mean_before(measured, flap_start - 0.5);
         r.notes.push_back(fmt::format("Mean sway drift over the window: {:+.4f} m (the record: {:+.4f} m from its level "
                                       "before the waves).",
