@@ -12,6 +12,9 @@ packages=(
   python3 python3-numpy python3-meshio python3-pil
   # Several processes: MPI (Open MPI, with mpirun) and Zoltan's domain decomposition.
   libopenmpi-dev openmpi-bin libtrilinos-zoltan-dev
+  # The Python module (`import sluice`) and its tests: pybind11, the interpreter's headers, pytest, and
+  # Jupyter's notebook runner with its Python kernel; the examples plot with matplotlib.
+  pybind11-dev python3-dev python3-pytest python3-nbclient python3-nbformat python3-ipykernel python3-matplotlib
   # The documentation site (`make docs`): Sphinx with MyST Markdown.
   python3-sphinx python3-myst-parser
 )

@@ -1,5 +1,7 @@
 // A run: a Simulation driven to its end time with frames, diagnostics, probes, checkpoints, a
-// progress line and a summary. The CLI is a thin layer over this.
+// progress line and a summary. The CLI is a thin layer over this; the pieces are the outputs
+// (run_outputs.hpp), the schedule of frames and checkpoints (schedule.hpp), the progress line
+// (progress.hpp), the checks before a run (run_checks.hpp) and the run itself (runner.hpp).
 #pragma once
 
 #include <atomic>
@@ -13,6 +15,8 @@
 
 #include "sluice/case/case.hpp"
 #include "sluice/core/communicator.hpp"
+#include "sluice/io/progress.hpp"
+#include "sluice/io/run_outputs.hpp"
 #include "sluice/simulation.hpp"
 
 namespace sluice {
@@ -25,7 +29,8 @@ struct RunOptions {
   // the end of the run that wrote the checkpoint); anything else would break the exact continuation.
   std::vector<std::string> restart_overrides;
   // Progress reporting: "tty" rewrites one line, "lines" prints periodic lines, "none" is quiet.
-  enum class Progress { tty, lines, none } progress = Progress::lines;
+  using Progress = ProgressMode;
+  Progress progress = Progress::lines;
   const std::atomic<bool>* stop_requested = nullptr;  // set by Ctrl-C: stop after the current step
   // The processes of an MPI run (null for one process): the particles are spread over them, the root
   // writes every output file and the progress, and an output error on the root stops every process.
@@ -80,16 +85,6 @@ struct RunResult {
   double ghost_share = 0.0;  // ghosts per owned particle, all processes, averaged over the evaluations
   std::vector<std::string> notes;  // the set-up's (Solver::setup_notes), for a run that started the case
 };
-
-// Files a run writes into its output directory.
-namespace output_files {
-inline constexpr const char* frames_dir = "frames";
-inline constexpr const char* diagnostics = "diagnostics.csv";
-inline constexpr const char* checkpoint = "checkpoint.bin";
-inline constexpr const char* probes_dir = "probes";
-inline constexpr const char* bodies_dir = "bodies";
-inline constexpr const char* summary = "summary.txt";
-}  // namespace output_files
 
 // Runs `c` (ignored when options.restart is set: the checkpoint carries its case). Throws IoError on
 // output failures, FormatError on a bad checkpoint and CaseError on a restart that cannot continue

@@ -4,9 +4,11 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <variant>
 #include <vector>
@@ -207,6 +209,21 @@ class Solver {
     return within_walls(i, r) & (particles_.position[Dim - 1][i] <= r.top);
   }
 
+  // Coupling with another code between steps (the Python module's hooks).
+  //
+  // Sets the velocities of the fluid particles `ids`, Dim values each in `velocity` (row-major). With
+  // several processes, ids this process does not hold are skipped; with one, an id that is no
+  // particle is an error (std::invalid_argument), as is a wall particle (walls move as their motion
+  // says) or a value that is not finite. The rates a leapfrog carries into the next step were those
+  // of the old velocities, so the next step evaluates them first. Returns how many were set here.
+  std::size_t set_fluid_velocities(std::span<const std::uint32_t> ids, std::span<const double> velocity);
+  // An acceleration of the water besides gravity, added at every force evaluation: f(t, n, x, a) is
+  // given the n fluid particles' positions x (n x Dim, row-major) at the evaluation's time t, and
+  // fills a (n x Dim, zeroed) in m/s^2. It counts in the time step's acceleration limit. An empty f
+  // removes it. A value that is not finite stops the step (std::invalid_argument).
+  using ExternalAcceleration = std::function<void(double t, std::size_t n, const double* x, double* a)>;
+  void set_external_acceleration(ExternalAcceleration f) { external_acceleration_ = std::move(f); }
+
   // Returns to the state at the start of the last step (if it got far enough to change anything),
   // for the instability guard and after a failure mid-step; drops the ghosts of a step cut short.
   void restore_saved_state();
@@ -251,10 +268,14 @@ class Solver {
   // returns how many left, on all processes.
   std::int64_t remove_outflow();
   // Before a drift: physics.wall_no_penetration (geometry/leaks.hpp).
+  // Adds external_acceleration_'s values to the fluid's (evaluate).
+  void add_external_acceleration(RateSummary& summary);
   void stop_wall_approach_before_drift(const typename Particles<Dim>::template Vector<double>* acceleration, double tau);
 
   Case case_;
   Particles<Dim> particles_;
+  ExternalAcceleration external_acceleration_;
+  double stage_time_ = 0.0;  // the time the walls were last moved to: the evaluation's
   Solids<Dim> solids_;
   Bodies<Dim> bodies_;
   // A moving tank: the box its walls sweep over the run, which the reach of the water takes in.

@@ -240,6 +240,7 @@ void Solver<Dim>::init(const Case& c, const Particles<Dim>& built) {
 
 template <int Dim>
 void Solver<Dim>::advance_walls(double t) {
+  stage_time_ = t;
   if (!bodies_.any_moving()) return;
   bodies_.set_time(t);
   bodies_.place(particles_, threads_);
@@ -321,6 +322,7 @@ RateSummary Solver<Dim>::evaluate(bool shepard_due, unsigned also_moved, bool la
                                                           dist ? dist->ghost_mask().data() : nullptr);
     summary.max_acceleration = std::max(summary.max_acceleration, friction.max_acceleration);
   }
+  if (external_acceleration_) add_external_acceleration(summary);
   if (dist) {
     // A ghost's acceleration lacks the pairs beyond this process's halo: the largest is the owned
     // fluid particles' (the other maxima and the minimum distance are over real pairs and densities).
@@ -346,6 +348,68 @@ RateSummary Solver<Dim>::evaluate(bool shepard_due, unsigned also_moved, bool la
     shift_.compute(particles_, grid_, kernel_, shifting_sums_, shifting_, terms_.fluid_mask.data(), pair_threads, refresh);
   }
   return summary;
+}
+
+template <int Dim>
+void Solver<Dim>::add_external_acceleration(RateSummary& summary) {
+  const std::vector<std::uint8_t>* ghost = distribution_ ? &distribution_->ghost_mask() : nullptr;
+  std::vector<std::size_t> rows;
+  for (std::size_t i = 0; i < particles_.size(); ++i)
+    if (particles_.is_fluid(i) && !(ghost != nullptr && i < ghost->size() && (*ghost)[i])) rows.push_back(i);
+  std::vector<double> x(rows.size() * Dim), a(rows.size() * Dim, 0.0);
+  for (std::size_t k = 0; k < rows.size(); ++k)
+    for (int d = 0; d < Dim; ++d) x[k * Dim + d] = particles_.position[d][rows[k]];
+  external_acceleration_(stage_time_, rows.size(), x.data(), a.data());
+  double max_a2 = 0.0;
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const std::size_t i = rows[k];
+    double a2 = 0.0;
+    for (int d = 0; d < Dim; ++d) {
+      const double value = a[k * Dim + d];
+      if (!std::isfinite(value))
+        throw std::invalid_argument(fmt::format(
+            "the body force gave a value that is not finite ({}) for particle id {} at t = {} s", value,
+            particles_.id[i], stage_time_));
+      particles_.acceleration[d][i] += value;
+      a2 += particles_.acceleration[d][i] * particles_.acceleration[d][i];
+    }
+    max_a2 = std::max(max_a2, a2);
+  }
+  summary.max_acceleration = std::max(summary.max_acceleration, std::sqrt(max_a2));
+}
+
+template <int Dim>
+std::size_t Solver<Dim>::set_fluid_velocities(std::span<const std::uint32_t> ids, std::span<const double> velocity) {
+  if (velocity.size() != ids.size() * Dim)
+    throw std::invalid_argument(fmt::format("{} velocities for {} particles; expected {} values ({} per particle)",
+                                            velocity.size(), ids.size(), ids.size() * Dim, Dim));
+  const std::vector<std::uint8_t>* ghost = distribution_ ? &distribution_->ghost_mask() : nullptr;
+  std::uint32_t largest = 0;
+  for (const std::uint32_t id : particles_.id) largest = std::max(largest, id);
+  std::vector<std::int64_t> row(static_cast<std::size_t>(largest) + 1, -1);
+  for (std::size_t i = 0; i < particles_.size(); ++i)
+    if (!(ghost != nullptr && i < ghost->size() && (*ghost)[i])) row[particles_.id[i]] = static_cast<std::int64_t>(i);
+  for (const double v : velocity)
+    if (!std::isfinite(v)) throw std::invalid_argument(fmt::format("a velocity is not finite ({})", v));
+  std::size_t set = 0;
+  for (std::size_t k = 0; k < ids.size(); ++k) {
+    const std::uint32_t id = ids[k];
+    if (id >= row.size() || row[id] < 0) {
+      if (distribution_) continue;
+      throw std::invalid_argument(
+          fmt::format("particle id {} is no particle of the run (ids run from 0 to {})", id, largest));
+    }
+    const auto i = static_cast<std::size_t>(row[id]);
+    if (!particles_.is_fluid(i))
+      throw std::invalid_argument(fmt::format(
+          "particle id {} is a wall particle; only the water's velocities can be set (a wall moves as its motion "
+          "says)",
+          id));
+    for (int d = 0; d < Dim; ++d) particles_.velocity[d][i] = velocity[k * Dim + d];
+    ++set;
+  }
+  clock_.rates_carried = false;
+  return set;
 }
 
 template <int Dim>
