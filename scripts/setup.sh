@@ -13,8 +13,10 @@ packages=(
   # Several processes: MPI (Open MPI, with mpirun) and Zoltan's domain decomposition.
   libopenmpi-dev openmpi-bin libtrilinos-zoltan-dev
   # The Python module (`import sluice`) and its tests: pybind11, the interpreter's headers, pytest, and
-  # Jupyter's notebook runner with its Python kernel; the examples plot with matplotlib.
+  # Jupyter's notebook runner with its Python kernel, and mpi4py for the module under mpirun; the
+  # examples plot with matplotlib.
   pybind11-dev python3-dev python3-pytest python3-nbclient python3-nbformat python3-ipykernel python3-matplotlib
+  python3-mpi4py
   # The documentation site (`make docs`): Sphinx with MyST Markdown.
   python3-sphinx python3-myst-parser
 )

@@ -35,6 +35,7 @@
 #include "sluice/io/frames.hpp"
 #include "sluice/io/npz.hpp"
 #include "sluice/io/runner.hpp"
+#include "sluice/mpi/mpi_communicator.hpp"
 #include "sluice/physics/simd_target.hpp"
 #include "sluice/render/options.hpp"
 #include "sluice/render/render.hpp"
@@ -88,6 +89,19 @@ py::dict frame_arrays(const Frame& frame) {
   return out;
 }
 
+// The processes of an interpreter run under mpirun, once mpi4py has started MPI (null for one
+// process). Dropped at the interpreter's exit, before mpi4py stops MPI.
+std::unique_ptr<MpiCommunicator>& world() {
+  static std::unique_ptr<MpiCommunicator> w;
+  return w;
+}
+
+void start_world() {
+  if (world()) return;
+  world() = world_of_started_mpi();
+  if (world()) py::module_::import("atexit").attr("register")(py::cpp_function([] { world().reset(); }));
+}
+
 // An error raised by Python code the solver called (the body force): kept to be raised again once
 // the step has been undone. Not a std::runtime_error, so that the run reports it as a failure of the
 // step rather than an instability.
@@ -105,6 +119,8 @@ class PySimulation {
     options.progress = RunOptions::Progress::none;
     options.stop_requested = &stop_;
     options.command = "python3 (import sluice)";
+    options.comm = world().get();
+    comm_ = options.comm;
     if (restart) {
       options.restart = *restart;
       options.output_dir = output_dir ? *output_dir : restart->parent_path();
@@ -141,11 +157,19 @@ class PySimulation {
         raise_callback_error();
         throw;
       }
-      if (!stepped) break;
+      if (!stepped) {
+        if (r.stopped() && comm_ != nullptr) stopped_by_signal();
+        break;
+      }
       ++taken;
       if (PyErr_CheckSignals() != 0) {
-        interrupted();
-        throw py::error_already_set();
+        if (comm_ == nullptr) {
+          interrupted();
+          throw py::error_already_set();
+        }
+        // Several processes stop after the same step: the next step's start asks them all (Runner).
+        pending_interrupt_.emplace();
+        stop_ = true;
       }
       if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >= wall_limit) break;
     }
@@ -168,6 +192,22 @@ class PySimulation {
     PyErr_Restore(type, value, trace);
   }
 
+  // Under MPI, after every process stopped on a signal that reached any of them: the state saved,
+  // and KeyboardInterrupt raised on every process.
+  [[noreturn]] void stopped_by_signal() {
+    if (runner_->writes_outputs() && !result_) {
+      py::gil_scoped_release release;
+      result_ = runner_->finish();
+    }
+    if (pending_interrupt_) {
+      py::error_already_set e = std::move(*pending_interrupt_);
+      pending_interrupt_.reset();
+      throw e;
+    }
+    PyErr_SetNone(PyExc_KeyboardInterrupt);
+    throw py::error_already_set();
+  }
+
   void raise_callback_error() {
     if (!callback_error_) return;
     py::error_already_set e = std::move(*callback_error_);
@@ -175,8 +215,17 @@ class PySimulation {
     throw e;
   }
 
-  py::dict particles() {
-    const Frame frame = make_frame(sim());
+  // This process's particles (all of them with one process).
+  py::dict particles() { return frame_arrays(make_process_frame(sim())); }
+
+  // Every process's particles on the root process, None on the others. Collective.
+  py::object gather_particles() {
+    Frame frame;
+    {
+      py::gil_scoped_release release;
+      frame = make_frame(sim());
+    }
+    if (!sim().is_root()) return py::none();
     return frame_arrays(frame);
   }
 
@@ -302,6 +351,8 @@ class PySimulation {
   }
 
   [[nodiscard]] bool closed() const { return !runner_; }
+  [[nodiscard]] int rank() const { return comm_ != nullptr ? comm_->rank() : 0; }
+  [[nodiscard]] int processes() const { return comm_ != nullptr ? comm_->size() : 1; }
   [[nodiscard]] int dimension() const { return dimension_; }
   [[nodiscard]] bool has_result() const { return result_.has_value(); }
 
@@ -311,6 +362,8 @@ class PySimulation {
   std::unique_ptr<Runner> runner_;
   std::optional<RunResult> result_;
   std::optional<py::error_already_set> callback_error_;
+  std::optional<py::error_already_set> pending_interrupt_;
+  const Communicator* comm_ = nullptr;
   int dimension_ = 2;
 };
 
@@ -435,6 +488,12 @@ PYBIND11_MODULE(sluice, m) {
       .def_property_readonly("closed", &PySimulation::closed)
       .def_property_readonly("_has_result", &PySimulation::has_result)
       .def("particles", &PySimulation::particles)
+      .def("gather_particles", &PySimulation::gather_particles)
+      .def_property_readonly("rank", [](PySimulation& s) { return s.rank(); })
+      .def_property_readonly("processes", [](PySimulation& s) { return s.processes(); })
+      .def_property_readonly("local_particle_count", [](PySimulation& s) {
+        return s.sim().visit([](const auto& solver) { return solver.particles().size(); });
+      })
       .def("_set_velocities", &PySimulation::set_velocities)
       .def("set_body_force", &PySimulation::set_body_force, py::arg("f"))
       .def("diagnostics", &PySimulation::diagnostics)
@@ -445,6 +504,8 @@ PYBIND11_MODULE(sluice, m) {
   m.def("_render_png", &render_png, py::arg("run_dir"), py::arg("field"), py::arg("time"), py::arg("width"),
         py::arg("height"), py::arg("range"));
   m.def("_default_threads", [] { return omp_get_num_procs(); });
+  m.def("_launched_by_mpi", &launched_by_mpi);
+  m.def("_start_world", &start_world);
 
   py::exec(sluice_module_py, m.attr("__dict__"));
 }

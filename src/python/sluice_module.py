@@ -115,6 +115,20 @@ class _ProgressLine:
         _sys.stderr.flush()
 
 
+def _start_processes():
+    """Under mpirun, MPI started by mpi4py (if nothing started it) and the processes shared by the
+    simulations; returns how many processes there are."""
+    if not _launched_by_mpi():
+        return 1
+    try:
+        from mpi4py import MPI  # importing it starts MPI
+    except ImportError:
+        raise RuntimeError("this interpreter runs under mpirun: sluice shares a run among the processes through "
+                           "mpi4py, which is not installed (Debian package python3-mpi4py)") from None
+    _start_world()
+    return MPI.COMM_WORLD.Get_size()
+
+
 class Simulation(_Simulation):
     """A case's simulation, stepped from Python.
 
@@ -124,7 +138,8 @@ class Simulation(_Simulation):
 
     `case`: a Case, or anything load_case takes. `output_dir`: write the frames, probes,
     diagnostics, checkpoints and summary there as `sluice run -o` does (none without it).
-    `restart`: continue from a checkpoint file instead (no case then). `threads`: default all cores.
+    `restart`: continue from a checkpoint file instead (no case then). `threads`: default all cores
+    (shared among the processes under mpirun, where each process holds its region's particles).
     The steps are those of `sluice run` (they land on the frame and checkpoint times), so the
     particles after n steps are bit for bit the command line's.
     """
@@ -136,8 +151,9 @@ class Simulation(_Simulation):
             raise TypeError("Simulation: expected a case (sluice.load_case(...), a built-in name, a path or a dict)")
         if case is not None and not isinstance(case, Case):
             case = load_case(case)
+        processes = _start_processes()
         if threads is None:
-            threads = _default_threads()
+            threads = max(1, _default_threads() // processes)  # the cores shared among the processes
         if isinstance(threads, bool) or not isinstance(threads, int):
             raise TypeError(f"threads = {threads!r}: expected a whole number of threads")
         super().__init__(case, threads, None if output_dir is None else _Path(output_dir),
@@ -153,8 +169,10 @@ class Simulation(_Simulation):
     def __repr__(self):
         if self.closed:
             return "<sluice.Simulation (closed)>"
-        return (f"<sluice.Simulation '{self.case.name}': {self.particle_count} particles, t = {self.time:.6g} s "
-                f"of {self.end_time:.6g} s, step {self.step_count}>")
+        held = (f"{self.local_particle_count} particles on process {self.rank} of {self.processes}"
+                if self.processes > 1 else f"{self.local_particle_count} particles")
+        return (f"<sluice.Simulation '{self.case.name}': {held}, t = {self.time:.6g} s of {self.end_time:.6g} s, "
+                f"step {self.step_count}>")
 
     def step(self, n=1):
         """Takes n steps (fewer at the case's end); returns how many were taken."""

@@ -106,6 +106,22 @@ std::size_t Frame::size() const {
   return 0;
 }
 
+namespace {
+
+// A frame of the time now holding `particles` (a solver's, or all processes' gathered).
+template <class Solver, class P>
+void fill_frame(Frame& f, const Simulation& sim, const Solver& solver, const P& particles) {
+  f.time = sim.time();
+  f.step = sim.clock().step;
+  f.dx = sim.config().dx;
+  f.dimension = sim.dimension();
+  std::vector<double> pressure(particles.size());
+  for (std::size_t i = 0; i < particles.size(); ++i) pressure[i] = solver.eos().pressure(particles.density[i]);
+  f.fields = frame_fields(particles, pressure);
+}
+
+}  // namespace
+
 Frame make_frame(const Simulation& sim) {
   Frame f;
   f.time = sim.time();
@@ -114,12 +130,14 @@ Frame make_frame(const Simulation& sim) {
   f.dimension = sim.dimension();
   // Every process's particles, on the root (the other processes' frames are empty).
   sim.visit([&](const auto& solver) {
-    solver.with_all_particles([&](const auto& p) {
-      std::vector<double> pressure(p.size());
-      for (std::size_t i = 0; i < p.size(); ++i) pressure[i] = solver.eos().pressure(p.density[i]);
-      f.fields = frame_fields(p, pressure);
-    });
+    solver.with_all_particles([&](const auto& p) { fill_frame(f, sim, solver, p); });
   });
+  return f;
+}
+
+Frame make_process_frame(const Simulation& sim) {
+  Frame f;
+  sim.visit([&](const auto& solver) { fill_frame(f, sim, solver, solver.particles()); });
   return f;
 }
 

@@ -76,7 +76,10 @@ const std::vector<T>& Frame::values(std::string_view short_name) const {
   throw std::out_of_range("a frame has no field '" + std::string(short_name) + "' of that type");
 }
 
+// Every process's particles, on the root process (the others' frames are empty). Collective.
 Frame make_frame(const Simulation& sim);
+// This process's particles alone, in id order (all of them with one process).
+Frame make_process_frame(const Simulation& sim);
 
 // NumPy: arrays t, step, dx, then each field under its short name: x (N, dimension), v (N, dimension),
 // rho, p, kind, id.

@@ -772,4 +772,21 @@ std::unique_ptr<MpiSession> start_mpi_if_launched(int& argc, char**& argv) {
   return std::unique_ptr<MpiSession>(new MpiSession(rank, size, seconds));
 }
 
+std::unique_ptr<MpiCommunicator> world_of_started_mpi() {
+  int started = 0;
+  MPI_Initialized(&started);
+  if (started == 0 || mpi_finalized()) return nullptr;
+  int provided = MPI_THREAD_SINGLE;
+  MPI_Query_thread(&provided);
+  if (provided < MPI_THREAD_FUNNELED)
+    throw std::runtime_error(fmt::format(
+        "MPI was started with thread level {}; expected at least MPI_THREAD_FUNNELED ({}): OpenMP threads run in "
+        "each process",
+        provided, MPI_THREAD_FUNNELED));
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  if (size < 2) return nullptr;
+  return std::make_unique<MpiCommunicator>();
+}
+
 }  // namespace sluice

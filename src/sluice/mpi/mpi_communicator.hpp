@@ -105,4 +105,10 @@ class MpiSession {
 // of argc and argv.
 [[nodiscard]] std::unique_ptr<MpiSession> start_mpi_if_launched(int& argc, char**& argv);
 
+// The processes of MPI_COMM_WORLD when MPI was started by the program that hosts sluice (mpi4py in a
+// Python interpreter under mpirun) and there are 2 or more of them; nullptr otherwise (MPI not
+// started, or one process). Throws std::runtime_error when MPI gives less than the funneled thread
+// level. It must be gone before MPI is stopped.
+[[nodiscard]] std::unique_ptr<MpiCommunicator> world_of_started_mpi();
+
 }  // namespace sluice
