@@ -181,6 +181,36 @@ def test_a_callback_measures_something_during_a_run():
     assert len(front) == 3 and front[0] < front[-1]  # the collapsing column's front advances
 
 
+def test_other_python_threads_run_while_the_solver_steps():
+    import threading
+
+    sim = sluice.Simulation(sluice.load_case("dam_break", overrides={"domain.dx": 0.1, "time.end": 2.0}), threads=1)
+    done = threading.Event()
+    ticks = [0]
+
+    def count():
+        while not done.is_set():
+            ticks[0] += 1
+            time.sleep(0.001)
+
+    counter = threading.Thread(target=count)
+    counter.start()
+    started = time.perf_counter()
+    sim.step(400)  # one call: the lock is taken back only between steps
+    seconds = time.perf_counter() - started
+    done.set()
+    counter.join()
+    # A thread sleeping 1 ms a tick gets most of its ticks only if the solver lets go of the lock.
+    assert ticks[0] > 0.3 * seconds / 0.001
+
+
+def test_run_prints_a_progress_line_when_asked(capfd):
+    sim = sluice.Simulation(coarse(), threads=1)
+    sim.run(until=0.2, progress=True)
+    err = capfd.readouterr().err
+    assert "t = 0.200/0.200 s" in err and "ETA" in err and err.count("\r") >= 1
+
+
 # ---- coupling hooks -----------------------------------------------------------------------------
 
 def test_set_velocities_changes_the_waters_velocity():
