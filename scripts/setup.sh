@@ -12,6 +12,10 @@ packages=(
   python3 python3-numpy python3-meshio python3-pil
   # Several processes: MPI (Open MPI, with mpirun) and Zoltan's domain decomposition.
   libopenmpi-dev openmpi-bin libtrilinos-zoltan-dev
+  # sluice view: an HTTP server and JSON for its page.
+  libcpp-httplib-dev nlohmann-json3-dev
+  # The view's page tested in a headless browser.
+  chromium
   # The Python module (`import sluice`) and its tests: pybind11, the interpreter's headers, pytest, and
   # Jupyter's notebook runner with its Python kernel, and mpi4py for the module under mpirun; the
   # examples plot with matplotlib.

@@ -11,6 +11,7 @@
 
 #include "sluice/case/case.hpp"
 #include "sluice/core/communicator.hpp"
+#include "sluice/view/view_server.hpp"
 
 namespace sluice::app {
 
@@ -38,6 +39,7 @@ Command add_render_command(CLI::App& app);
 Command add_analyze_command(CLI::App& app);      // analysis_commands.cpp
 Command add_convergence_command(CLI::App& app);  // analysis_commands.cpp
 Command add_validate_command(CLI::App& app);     // analysis_commands.cpp
+Command add_view_command(CLI::App& app);         // view_command.cpp
 
 // The processes of an MPI run (`mpirun -np N sluice run ...`), set by main; null for one process.
 void set_processes(const Communicator* comm);
@@ -51,5 +53,9 @@ Case case_from_argument(const std::string& name_or_path);
 // if unknown), and the run's animation drawn after it.
 void check_render_field(const std::string& field);
 void render_after_run(const std::filesystem::path& output_dir, const std::string& field, bool quiet);
+
+// The server's options for `--host` and `--port` (view_command.cpp): a token for every request when
+// the host is not this machine's loopback.
+view::ServerOptions view_options(const std::string& host, int port);
 
 }  // namespace sluice::app

@@ -91,6 +91,8 @@ int run_parsed(const std::vector<app::Command>& commands) {
     return report(e, app::exit_bad_input);
   } catch (const app::BadInput& e) {
     return report(e, app::exit_bad_input);
+  } catch (const view::ViewError& e) {  // a port in use
+    return report(e, app::exit_bad_input);
   } catch (const std::exception& e) {  // IoError, FormatError, a failed run
     return report(e, app::exit_failure);
   }
@@ -132,6 +134,7 @@ int main(int argc, char** argv) {
       app::add_analyze_command(cli),
       app::add_convergence_command(cli),
       app::add_validate_command(cli),
+      app::add_view_command(cli),
   };
   if (const auto status = refuse_missing_command(argc, argv, commands)) return *status;
 

@@ -39,6 +39,9 @@ struct RunArgs {
   std::vector<std::string> sets;
   int threads = 0;
   bool quiet = false;
+  bool view = false;
+  int port = 8050;
+  std::string host = "127.0.0.1";
 };
 
 int run(const RunArgs& a) {
@@ -92,6 +95,19 @@ int run(const RunArgs& a) {
   std::signal(SIGTERM, on_signal);
   std::signal(SIGHUP, on_signal);
 
+  // The live view: the page served from the output directory as the run writes it, its controls
+  // reaching the run between steps (the root process serves it).
+  view::Controls controls;
+  controls.stop = &stop_requested;
+  std::unique_ptr<view::ViewServer> server;
+  if (a.view && root) {
+    view::ServerOptions o = view_options(a.host, a.port);
+    o.controls = &controls;
+    server = std::make_unique<view::ViewServer>(options.output_dir, o);
+    std::cerr << fmt::format("sluice: watch the run at {}\n", server->address());
+  }
+  options.pause_requested = &controls.pause;
+  options.checkpoint_requested = &controls.checkpoint;
   if (!a.quiet && root) {
     const std::string per = world != nullptr ? fmt::format(" on each of {} processes", world->size()) : "";
     if (options.restart) std::cerr << fmt::format("sluice: restarting from {}\n", a.restart);
@@ -133,6 +149,13 @@ Command add_run_command(CLI::App& app) {
                   "Continue from a checkpoint file (e.g. out/dam_break/checkpoint.bin); with it, --set may only "
                   "change time.end");
   cmd->add_flag("-q,--quiet", args->quiet, "No progress line");
+  cmd->add_flag("--view", args->view,
+                "Serve a live view of the run in the browser (the address, with the token for its controls, is "
+                "printed)");
+  cmd->add_option("--port", args->port, "With --view: the port to listen on (default 8050)")->check(CLI::Range(1, 65535));
+  cmd->add_option("--host", args->host,
+                  "With --view: the address to listen on (default 127.0.0.1; another requires the token for every "
+                  "request)");
   cmd->add_option("--simd", args->simd,
                   "Instruction set of the pair loop: auto (the best this CPU runs, the default) or one that "
                   "`sluice --version` lists, e.g. AVX2 on an AVX-512 machine, to compare them");

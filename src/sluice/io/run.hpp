@@ -32,6 +32,10 @@ struct RunOptions {
   using Progress = ProgressMode;
   Progress progress = Progress::lines;
   const std::atomic<bool>* stop_requested = nullptr;  // set by Ctrl-C: stop after the current step
+  // Set by a live view's page (sluice run --view): wait between steps while `pause_requested`; write a
+  // checkpoint after the current step when `checkpoint_requested` (which the run clears).
+  const std::atomic<bool>* pause_requested = nullptr;
+  std::atomic<bool>* checkpoint_requested = nullptr;
   // The processes of an MPI run (null for one process): the particles are spread over them, the root
   // writes every output file and the progress, and an output error on the root stops every process.
   const Communicator* comm = nullptr;

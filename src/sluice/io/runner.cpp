@@ -7,6 +7,7 @@
 #include <cmath>
 #include <optional>
 #include <stdexcept>
+#include <thread>
 
 #include "sluice/case/case_error.hpp"
 #include "sluice/case/overrides.hpp"
@@ -161,13 +162,18 @@ struct Runner::Impl {
   bool step(double limit) {
     if (stopped_ || sim_->time() >= schedule_->end()) return false;
     return guarded([&] {
-      const Request request = requested();
-      if (request == Request::stop) {
-        interrupted_ = true;
-        stopped_ = true;
-        return false;
+      for (Request request = requested(); request != Request::none; request = requested()) {
+        if (request == Request::stop) {
+          interrupted_ = true;
+          stopped_ = true;
+          return false;
+        }
+        if (request == Request::checkpoint) {
+          write_checkpoint();
+          break;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));  // paused
       }
-      if (request == Request::checkpoint) write_checkpoint();
       guarded_step(limit);
       write_due_outputs();
       progress_->update(*sim_, steps_, seconds_since(loop_start_));
@@ -217,15 +223,19 @@ struct Runner::Impl {
   }
 
   // What a step's end asks for, on any process, so that every process does it after the same step:
-  // a stop (Ctrl-C, SIGTERM, SIGHUP), which writes a checkpoint, or a checkpoint because
-  // output.checkpoint_wall_interval seconds of wall time have passed since the last (one reduction
-  // for both).
-  enum class Request { none = 0, checkpoint = 1, stop = 2 };
-  [[nodiscard]] Request requested() const {
+  // a stop (Ctrl-C, SIGTERM, SIGHUP), which writes a checkpoint; a checkpoint, because
+  // output.checkpoint_wall_interval seconds of wall time have passed since the last or the live
+  // view asked for one; or a pause, asked for by the live view (one reduction for all: the most
+  // pressing wins, and a pause is asked again after a checkpoint).
+  enum class Request { none = 0, pause = 1, checkpoint = 2, stop = 3 };
+  [[nodiscard]] Request requested() {
     Request here = Request::none;
     if (options_.stop_requested != nullptr && options_.stop_requested->load()) here = Request::stop;
-    else if (checkpoint_wall_interval_ > 0.0 && seconds_since(last_checkpoint_) >= checkpoint_wall_interval_)
+    else if ((checkpoint_wall_interval_ > 0.0 && seconds_since(last_checkpoint_) >= checkpoint_wall_interval_) ||
+             (options_.checkpoint_requested != nullptr && options_.checkpoint_requested->exchange(false)))
       here = Request::checkpoint;
+    else if (options_.pause_requested != nullptr && options_.pause_requested->load())
+      here = Request::pause;
     if (options_.comm == nullptr) return here;
     return static_cast<Request>(std::lround(options_.comm->reducer().max(static_cast<double>(here))));
   }
