@@ -152,7 +152,8 @@ Command add_run_command(CLI::App& app) {
   cmd->add_flag("--view", args->view,
                 "Serve a live view of the run in the browser (the address, with the token for its controls, is "
                 "printed)");
-  cmd->add_option("--port", args->port, "With --view: the port to listen on (default 8050)")->check(CLI::Range(1, 65535));
+  cmd->add_option("--port", args->port, "With --view: the port to listen on (default 8050; 0: any free port)")
+      ->check(CLI::Range(0, 65535));
   cmd->add_option("--host", args->host,
                   "With --view: the address to listen on (default 127.0.0.1; another requires the token for every "
                   "request)");

@@ -65,7 +65,7 @@ Command add_view_command(CLI::App& app) {
   auto args = std::make_shared<ViewArgs>();
   auto* cmd = app.add_subcommand("view", "Show a run in the browser, finished or running (WebGL; the address is printed).");
   cmd->add_option("run_dir", args->dir, "The run's output directory")->required();
-  cmd->add_option("--port", args->port, "The port to listen on (default 8050)")->check(CLI::Range(1, 65535));
+  cmd->add_option("--port", args->port, "The port to listen on (default 8050; 0: any free port)")->check(CLI::Range(0, 65535));
   cmd->add_option("--host", args->host,
                   "The address to listen on (default 127.0.0.1, this machine alone; another, such as 0.0.0.0, "
                   "requires the printed token for every request)");

@@ -292,22 +292,35 @@ function message(text) {
 }
 
 // What the tests read: the frame shown, its time, and how much of the canvas is drawn on (samples of
-// every 7th pixel: not white, and in colour, which walls never are).
+// every 7th pixel: not white, and in colour, which walls never are). The pixels are read once the
+// drawing has rested for 300 ms, so that reading them never slows scrubbing.
+let pixelTimer = null;
+const pixels = { coloured: 0, water: 0 };
 function report() {
-  let coloured = 0, water = 0;
-  if (state.shown) {
-    const w = canvas.width, h = canvas.height, pixels = new Uint8Array(4 * w * h);
-    gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, pixels);
-    for (let i = 0; i < pixels.length; i += 4 * 7) {
-      const r = pixels[i], g = pixels[i + 1], b = pixels[i + 2];
-      if (r < 250 || g < 250 || b < 250) coloured++;
-      if (Math.max(r, g, b) - Math.min(r, g, b) > 40) water++;
+  writeStatus();
+  clearTimeout(pixelTimer);
+  pixelTimer = setTimeout(() => {
+    pixels.coloured = 0;
+    pixels.water = 0;
+    if (state.shown) {
+      const w = canvas.width, h = canvas.height, data = new Uint8Array(4 * w * h);
+      gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, data);
+      for (let i = 0; i < data.length; i += 4 * 7) {
+        const r = data[i], g = data[i + 1], b = data[i + 2];
+        if (r < 250 || g < 250 || b < 250) pixels.coloured++;
+        if (Math.max(r, g, b) - Math.min(r, g, b) > 40) pixels.water++;
+      }
     }
-  }
+    writeStatus();
+  }, 300);
+}
+
+function writeStatus() {
   $("status").textContent = JSON.stringify({
     frame: state.shown ? state.shown.index : null, time: state.shown ? state.shown.time : null,
-    label: $("time").textContent, frames: state.frames.length, coloured, water, draws: state.drawn,
-    message: $("message").hidden ? "" : $("message").textContent, dimension: state.shown ? state.shown.dimension : null,
+    label: $("time").textContent, frames: state.frames.length, coloured: pixels.coloured, water: pixels.water,
+    draws: state.drawn, message: $("message").hidden ? "" : $("message").textContent,
+    dimension: state.shown ? state.shown.dimension : null,
   });
 }
 
