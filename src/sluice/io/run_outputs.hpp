@@ -68,7 +68,6 @@ class RunOutputs {
   void write_checkpoint_file(const Simulation& sim, double wall_seconds);
 
   [[nodiscard]] int frames_written() const { return frames_written_; }
-  [[nodiscard]] const std::filesystem::path& dir() const { return dir_; }
 
  private:
   void keep_until_checkpoint(double checkpoint_time);

@@ -410,7 +410,6 @@ double Runner::end_time() const { return impl_->schedule_->end(); }
 bool Runner::at_end() const { return impl_->sim_->time() >= impl_->schedule_->end(); }
 bool Runner::stopped() const { return impl_->stopped_; }
 bool Runner::writes_outputs() const { return impl_->outputs_.has_value(); }
-std::int64_t Runner::steps_taken() const { return impl_->steps_; }
 
 bool Runner::step(double limit) { return impl_->step(limit); }
 

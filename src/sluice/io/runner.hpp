@@ -33,7 +33,6 @@ class Runner {
   [[nodiscard]] bool at_end() const;           // the end time reached
   [[nodiscard]] bool stopped() const;          // stopped on request, finished, or stopped by an error
   [[nodiscard]] bool writes_outputs() const;   // an output directory was given
-  [[nodiscard]] std::int64_t steps_taken() const;  // in this run
 
   // One step, ending on the next frame, checkpoint or end time if it would pass it, and on `limit`,
   // then the outputs due after it. Returns false without stepping at the end, or when a stop is

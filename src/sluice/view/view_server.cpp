@@ -156,6 +156,9 @@ std::string random_token() {
   return token;
 }
 
+namespace {
+
+// The binary frame the page draws (GET /api/frame/K):
 // [uint32 header bytes][header JSON, padded with spaces to 4 bytes][positions: n x dimension float32]
 // [values: n float32, in the field's shown unit][kind: n uint8]. A frame of more than max_particles
 // is thinned: every k-th particle of it (k the smallest that leaves at most max_particles), walls
@@ -204,6 +207,8 @@ std::string frame_message(const fs::path& npz, std::int64_t index, const std::st
   append_bytes(out, kind.data(), kind.size());
   return out;
 }
+
+}  // namespace
 
 struct ViewServer::Impl {
   fs::path dir;

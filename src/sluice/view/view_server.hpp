@@ -59,8 +59,4 @@ class ViewServer {
 // A random token of 128 bits as 32 hex digits, from the system's random source.
 [[nodiscard]] std::string random_token();
 
-// The binary frame the page draws (GET /api/frame/K), for the tests and the benchmark.
-[[nodiscard]] std::string frame_message(const std::filesystem::path& npz, std::int64_t index, const std::string& field,
-                                        std::size_t max_particles);
-
 }  // namespace sluice::view
