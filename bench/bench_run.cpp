@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "sluice/case/params.hpp"
+#include "sluice/core/thread_waiting.hpp"
 #include "sluice/physics/simd_target.hpp"
 #include "sluice/simulation.hpp"
 
@@ -158,6 +159,7 @@ void print_scaling(const std::vector<SizeRun>& runs) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  restart_with_brief_spinning(argv);  // the threads wait as they do in `sluice run`
   std::vector<double> dxs = {0.07, 0.022, 0.01, 0.007};
   std::vector<double> thread_counts = {1, 2};
   long steps = 20;

@@ -139,8 +139,8 @@ class Simulation(_Simulation):
     `case`: a Case, or anything load_case takes. `output_dir`: write the frames, probes,
     diagnostics, checkpoints and summary there as `sluice run -o` does (none without it).
     `restart`: continue from a checkpoint file instead (no case then). `threads`: default all cores
-    (shared among the processes under mpirun, where each process holds its region's particles).
-    The steps are those of `sluice run` (they land on the frame and checkpoint times), so the
+    (shared among the processes under mpirun, where each process holds its region's particles);
+    the steps use fewer while fewer are faster, as on a busy machine, with the same results. The steps are those of `sluice run` (they land on the frame and checkpoint times), so the
     particles after n steps are bit for bit the command line's.
     """
 

@@ -73,6 +73,9 @@ class Simulation {
     return visit([](const auto& s) { return s.force_evaluations(); });
   }
   [[nodiscard]] int threads() const { return visit([](const auto& s) { return s.threads(); }); }
+  void set_threads(int threads) {
+    visit([threads](auto& s) { s.set_threads(threads); });
+  }
   [[nodiscard]] Diagnostics diagnostics() const { return visit([](const auto& s) { return s.diagnostics(); }); }
   // The instability guard (Solver::check_health).
   [[nodiscard]] Health check_health(std::size_t max_reported = 5) const {

@@ -17,6 +17,7 @@
 #include "sluice/app/commands.hpp"
 #include "sluice/case/case_error.hpp"
 #include "sluice/case/suggest.hpp"
+#include "sluice/core/thread_waiting.hpp"
 #include "sluice/io/atomic_file.hpp"
 #include "sluice/io/npz.hpp"
 #include "sluice/io/run.hpp"
@@ -26,20 +27,6 @@
 using namespace sluice;
 
 namespace {
-
-// OpenMP threads that spin while waiting at a barrier take the cores other processes need: on a
-// busy machine a 2-thread run can take several times longer than a 1-thread one. The OpenMP
-// runtime reads OMP_WAIT_POLICY once, before main(), so unless the user chose a policy sluice
-// restarts itself once with the passive one (threads sleep while they wait).
-// Not under valgrind (which preloads its vgpreload libraries): there /proc/self/exe is the valgrind
-// tool, which refuses to be started directly, and the restart would leave the profiler.
-void restart_with_passive_waiting(char** argv) {
-  if (std::getenv("OMP_WAIT_POLICY") != nullptr) return;
-  const char* preload = std::getenv("LD_PRELOAD");
-  if (preload != nullptr && std::string_view(preload).find("vgpreload") != std::string_view::npos) return;
-  if (::setenv("OMP_WAIT_POLICY", "PASSIVE", 1) == 0)
-    ::execv("/proc/self/exe", argv);  // returns only if it failed; then carry on as we are
-}
 
 // No command, an option where the command belongs, or an unknown command: CLI11 would only say "A
 // subcommand is required". The exit status if the first argument is not a command.
@@ -102,7 +89,7 @@ int run_parsed(const std::vector<app::Command>& commands) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  restart_with_passive_waiting(argv);
+  restart_with_brief_spinning(argv);
   // Past a file-size limit (ulimit -f) a write then fails with EFBIG and is reported like a full disk,
   // instead of the process being killed by SIGXFSZ.
   std::signal(SIGXFSZ, SIG_IGN);

@@ -38,6 +38,7 @@ struct RunArgs {
   std::string case_arg, output, restart, render_field, simd;
   std::vector<std::string> sets;
   int threads = 0;
+  bool fixed_threads = false;
   bool quiet = false;
   bool view = false;
   int port = 8050;
@@ -59,6 +60,7 @@ int run(const RunArgs& a) {
   const bool root = world == nullptr || world->is_root();
   // By default the cores are shared among the processes of an MPI run (on one machine).
   options.threads = a.threads > 0 ? a.threads : std::max(1, omp_get_num_procs() / (world ? world->size() : 1));
+  options.adapt_threads = !a.fixed_threads;
   if (!a.restart.empty()) {
     if (!a.case_arg.empty())
       throw BadInput("--restart continues the case stored in the checkpoint; give no case with it");
@@ -144,7 +146,13 @@ Command add_run_command(CLI::App& app) {
   cmd->add_option("-o,--output", args->output, "Output directory (default: out/<case name>)");
   cmd->add_option("--set", args->sets, "Override a case key, e.g. --set domain.dx=0.1 (repeatable)")
       ->allow_extra_args(false);
-  cmd->add_option("--threads", args->threads, "Threads to use (per process under mpirun; default: all cores, shared among the processes)")->check(CLI::Range(1, 1024));
+  cmd->add_option("--threads", args->threads,
+                  "Threads to use (per process under mpirun; default: all cores, shared among the processes); the "
+                  "run steps with fewer while fewer are faster, as on a machine busy with other work")
+      ->check(CLI::Range(1, 1024));
+  cmd->add_flag("--fixed-threads", args->fixed_threads,
+                "Step with --threads threads throughout, also while fewer would be faster (to measure a thread "
+                "count's speed)");
   cmd->add_option("--restart", args->restart,
                   "Continue from a checkpoint file (e.g. out/dam_break/checkpoint.bin); with it, --set may only "
                   "change time.end");

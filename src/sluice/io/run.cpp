@@ -31,6 +31,26 @@ RunResult run_case(const Case& c, const RunOptions& options, std::ostream& log) 
   return runner.run();
 }
 
+namespace {
+
+// "threads     2" or, after the run came down to fewer on a busy machine,
+// "threads     2 for 80 % of the steps, 1 for 20 % (fewer were faster while the machine was busy)".
+std::string format_threads(const RunResult& r) {
+  const auto& steps = r.thread_steps;
+  const std::string each = r.processes > 1 ? " in each process" : "";
+  if (steps.empty()) return "";
+  if (steps.size() == 1) return fmt::format("  threads     {}{}\n", steps[0].first, each);
+  std::int64_t total = 0;
+  for (const auto& [threads, n] : steps) total += n;
+  std::string s = "  threads     ";
+  for (std::size_t k = 0; k < steps.size(); ++k)
+    s += fmt::format("{}{} for {:.0f} % of the steps", k > 0 ? ", " : "", steps[k].first,
+                     100.0 * static_cast<double>(steps[k].second) / static_cast<double>(std::max<std::int64_t>(total, 1)));
+  return s + each + " (fewer were faster while the machine was busy)\n";
+}
+
+}  // namespace
+
 std::string format_summary(const RunResult& r) {
   const Diagnostics& d = r.final;
   std::string s;
@@ -48,6 +68,7 @@ std::string format_summary(const RunResult& r) {
                      r.bytes_exchanged / steps * 1e-6, r.exchange_seconds / steps * 1e3,
                      r.loop_seconds > 0 ? 100.0 * r.exchange_seconds / r.loop_seconds : 0.0, 100.0 * r.ghost_share);
   }
+  s += format_threads(r);
   s += fmt::format("  wall time   {:.2f} s for this run\n", r.wall_seconds);
   s += fmt::format("  loop time   {:.3f} s stepping (without set-up and final output)\n", r.loop_seconds);
   s += fmt::format("  speed       {:.2f} M particle-steps/s, {:.2f} M particle-evaluations/s\n",

@@ -24,6 +24,9 @@ namespace sluice {
 struct RunOptions {
   std::filesystem::path output_dir;
   int threads = 1;
+  // Step with fewer of the threads while fewer are faster (a busy machine; io/thread_governor.hpp).
+  // Off, every step uses `threads`: for measuring the speed of a thread count.
+  bool adapt_threads = true;
   std::optional<std::filesystem::path> restart;  // continue from this checkpoint
   // With a restart: "key=value" changes to the stored case. Only time.end may change (to run on past
   // the end of the run that wrote the checkpoint); anything else would break the exact continuation.
@@ -75,6 +78,9 @@ struct RunResult {
   double loop_seconds = 0.0;          // the stepping loop of this run
   double particle_steps_per_second = 0.0;
   int frames_written = 0;
+  // The steps of this run at each thread count, most threads first (one entry unless the run came
+  // down to fewer threads on a busy machine).
+  std::vector<std::pair<int, std::int64_t>> thread_steps;
   bool interrupted = false;
   double rest_density = 0.0;
   double sound_speed = 0.0;

@@ -18,6 +18,7 @@
 #include "sluice/io/run_checks.hpp"
 #include "sluice/io/run_outputs.hpp"
 #include "sluice/io/schedule.hpp"
+#include "sluice/io/thread_governor.hpp"
 
 namespace sluice {
 
@@ -134,6 +135,13 @@ struct Runner::Impl {
                       sim_->particle_count());
     particles_ = sim_->particle_count();
     outflow_ = sim_->clock().outflow;
+    // Every process must have the same counts to try, as they decide together; a run whose processes
+    // were given different thread counts keeps them.
+    const Reducer& all = options_.comm != nullptr ? options_.comm->reducer() : serial_reducer();
+    const auto threads = static_cast<double>(options_.threads);
+    const bool adapt = options_.adapt_threads && all.min(threads) == all.max(threads);
+    governor_.emplace(adapt ? options_.threads : 1, [reducer = &all](double v) { return reducer->max(v); });
+    sim_->set_threads(governor_->threads());
     // The set-up's notes now, before a long run, and again in the summary.
     if (sim_->is_root() && options_.progress != ProgressMode::none) {
       for (const std::string& n : sim_->setup_notes()) log << "sluice: note: " << n << "\n";
@@ -257,9 +265,12 @@ struct Runner::Impl {
   // the solver does when the time step is not finite, is stopped the same way: guarded, stop_failed.)
   void guarded_step(double limit) {
     mid_step_ = true;
+    const auto start = steady::now();
     sim_->step(std::min(schedule_->step_limit(), limit));
     mid_step_ = false;
     const Health health = sim_->check_health();
+    governor_->stepped(seconds_since(start));
+    sim_->set_threads(governor_->threads());
     if (!health.ok()) {
       const double bad_time = sim_->time();
       const std::int64_t bad_step = sim_->clock().step;
@@ -355,6 +366,7 @@ struct Runner::Impl {
     r.loop_seconds = seconds_since(loop_start_);
     r.particle_steps_per_second = r.loop_seconds > 0 ? particle_steps_ / r.loop_seconds : 0.0;
     r.frames_written = outputs_ ? outputs_->frames_written() : 0;
+    for (const auto& share : governor_->shares()) r.thread_steps.emplace_back(share.threads, share.steps);
     r.interrupted = interrupted_;
     r.rest_density = c.rest_density;
     r.sound_speed = c.sound_speed;
@@ -384,6 +396,7 @@ struct Runner::Impl {
   std::optional<RunOutputs> outputs_;  // none without an output directory
   std::optional<Schedule> schedule_;
   std::optional<ProgressLine> progress_;
+  std::optional<ThreadGovernor> governor_;
   std::int64_t steps_ = 0;
   // On all processes: constant through a run but for the water that leaves an open tank (outflow_).
   std::size_t particles_ = 0;

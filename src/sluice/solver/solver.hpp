@@ -157,6 +157,8 @@ class Solver {
   // at a step that starts without carried rates: the first, and the one after a leak).
   [[nodiscard]] std::int64_t force_evaluations() const { return evaluations_; }
   [[nodiscard]] int threads() const { return threads_; }
+  // The threads of the steps from now on (the results are the same bits on any count).
+  void set_threads(int threads) { threads_ = threads < 1 ? 1 : threads; }
   // The particle shift of the last step (zone, div r, shift velocity), when shifting is on.
   [[nodiscard]] const ParticleShifting<Dim>& shifting() const { return shift_; }
   // Combines the sums and maxima of this process's particles with those of the others.
