@@ -595,3 +595,41 @@ TEST(ValidationVariant, ParsesALabelAndItsOverrides) {
     }
   }
 }
+
+// The experiment's data the live view draws over a validation case's probes: on the run's clock and in
+// its units (Buchner's p* and t* back to pascals and seconds), up to the run's end; none for a case
+// without data.
+TEST(ReferenceOverlays, BuchnerInPascalsAndSeconds) {
+  const Case c = *load_builtin_case("buchner");
+  const auto overlays = reference_overlays(c);
+  ASSERT_EQ(overlays.size(), 1u);
+  const ReferenceOverlay& o = overlays[0];
+  EXPECT_EQ(o.series, "wall_pressure");
+  EXPECT_EQ(o.column, "pressure");
+  const Table data = reference_table("buchner2002_p_wall_pysph.csv");
+  const Series star = data.series("tstar", "pstar");
+  const double height = c.water[0].max[1], g = -c.gravity[1];
+  ASSERT_GT(o.data.size(), 10u);
+  EXPECT_NEAR(o.data.t[5], star.t[5] / std::sqrt(g / height), 1e-12);
+  EXPECT_NEAR(o.data.y[5], star.y[5] * c.rest_density * g * height, 1e-9);
+  EXPECT_LE(o.data.t.back(), c.end_time);
+  EXPECT_TRUE(reference_overlays(*load_builtin_case("dam_break")).empty());
+}
+
+TEST(ReferenceOverlays, NtnuGaugesFromTheRecordOnTheRunsClock) {
+  const Case c = *load_builtin_case("ntnu_flume");
+  const auto overlays = reference_overlays(c);
+  std::size_t gauges = 0;
+  for (const Probe& p : c.probes) gauges += p.type == ProbeType::gauge;
+  EXPECT_EQ(overlays.size(), gauges);
+  for (const ReferenceOverlay& o : overlays) {
+    EXPECT_TRUE(o.from_first_value);
+    ASSERT_GT(o.data.size(), 100u);
+    // Departures from the still level: near zero before the flap moves, waves of centimetres after.
+    EXPECT_LT(std::abs(o.data.y[0]), 0.005) << o.series;
+    double most = 0.0;
+    for (double y : o.data.y) most = std::max(most, std::abs(y));
+    EXPECT_GT(most, 0.005) << o.series;
+    EXPECT_LT(most, 0.2) << o.series;
+  }
+}

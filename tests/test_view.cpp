@@ -35,6 +35,14 @@ const fs::path& run_dir() {
     run_case(c, o, log);
     return d;
   }();
+  // Removed when the test program ends (each test runs in a program of its own under ctest).
+  static const struct Remove {
+    fs::path d;
+    ~Remove() {
+      std::error_code ec;
+      fs::remove_all(d, ec);
+    }
+  } remove{dir};
   return dir;
 }
 
@@ -213,4 +221,27 @@ TEST(View, APortInUseIsRefusedWithAMessage) {
     EXPECT_NE(std::string(e.what()).find(fmt::format("{}", o.port)), std::string::npos);
     EXPECT_NE(std::string(e.what()).find("--port"), std::string::npos);
   }
+}
+
+// A validation case's reference data come with the series, thinned to at most 4000 points.
+TEST(ViewServer, ServesTheReferenceDataWithTheSeries) {
+  view::ServerOptions o;
+  view::Overlay ref{"probes", "wall_pressure", "pressure", "Buchner (2002)", false, {}, {}};
+  for (int k = 0; k < 10000; ++k) {
+    ref.t.push_back(0.001 * k);
+    ref.value.push_back(100.0 * k);
+  }
+  o.overlays.push_back(ref);
+  Served s(o);
+  const auto res = s.client.Get("/api/series");
+  ASSERT_TRUE(res);
+  const json j = json::parse(res->body);
+  ASSERT_EQ(j["references"].size(), 1u);
+  const json& r = j["references"][0];
+  EXPECT_EQ(r["label"], "Buchner (2002)");
+  EXPECT_EQ(r["series"], "wall_pressure");
+  EXPECT_LE(r["t"].size(), 4000u);
+  EXPECT_GE(r["t"].size(), 3000u);
+  EXPECT_EQ(r["t"].size(), r["value"].size());
+  EXPECT_DOUBLE_EQ(r["value"][1].get<double>(), 100.0 * 1000.0 * r["t"][1].get<double>());
 }

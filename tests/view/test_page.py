@@ -93,6 +93,22 @@ for name, case, sets in [("2d", "dam_break", ["domain.dx=0.2", "time.end=1"]),
     server.send_signal(signal.SIGINT)
     check(server.wait(timeout=30) == 0, f"{name}: Ctrl-C stops the server cleanly")
 
+# A validation case: the experiment's data drawn over its probe, in the run's units.
+out = os.path.join(work, "buchner")
+run("buchner", out, "domain.dx=0.03", "time.end=1.2")
+port = free_port()
+server = serve(out, port)
+with urllib.request.urlopen(f"http://127.0.0.1:{port}/api/series") as r:
+    references = {ref["series"]: ref for ref in json.load(r).get("references", [])}
+wall = references.get("wall_pressure", {})
+check(wall.get("label") == "Buchner (2002)" and len(wall.get("t", [])) > 30 and max(wall.get("value", [0])) > 1000,
+      f"buchner: the experiment's wall pressure is served with the series, in pascals "
+      f"({len(wall.get('t', []))} points, largest {max(wall.get('value', [0])):.0f} Pa)")
+status = chromium(f"http://127.0.0.1:{port}/", os.path.join(work, "buchner.png"))
+check(status.get("references") == 1, f"buchner: the page draws it over the probe ({status.get('references')} plot)")
+server.send_signal(signal.SIGINT)
+check(server.wait(timeout=30) == 0, "buchner: Ctrl-C stops the server cleanly")
+
 bad = subprocess.run([args.sluice, "view", work], capture_output=True, text=True)
 check(bad.returncode == 2 and "not a sluice run" in bad.stderr, f"not a run: {bad.stderr.strip()}")
 bad = subprocess.run([args.sluice, "view", os.path.join(work, "nothing")], capture_output=True, text=True)

@@ -8,6 +8,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <utility>
 
 #include "sluice/analysis/reference_data.hpp"
@@ -148,6 +149,17 @@ void check_spheric2_case(const Case& c) {
                                     c.name));
   if (c.gravity[0] != 0.0 || c.gravity[1] != 0.0 || !(c.gravity[2] < 0.0))
     throw AnalysisError(fmt::format("case '{}': the SPHERIC test 2 data assume gravity straight down along -z", c.name));
+}
+
+std::vector<ReferenceOverlay> spheric2_overlays(const Case& c) {
+  check_spheric2_case(c);
+  const Table table = reference_table(spheric2_data);
+  std::vector<ReferenceOverlay> out;
+  for (const auto& [probe, column, data_column] : {std::tuple{"P1", "pressure", "P1_Pa"}, {"P2", "pressure", "P2_Pa"},
+                                                   {"P3", "pressure", "P3_Pa"}, {"P4", "pressure", "P4_Pa"},
+                                                   {"H2", "height", "H2_m"}, {"H4", "height", "H4_m"}})
+    out.push_back({"probes", probe, column, "Kleefsman et al. (2005)", false, scaled_column(table, data_column, 1.0)});
+  return out;
 }
 
 ValidationResult evaluate_spheric2(const Case& c, const fs::path& run_dir, const ValidationBounds& b) {

@@ -475,6 +475,65 @@ void check_validation_case(const std::string& case_name, const Case& c) {
   else throw AnalysisError(fmt::format("no validation case '{}'", case_name));
 }
 
+namespace {
+
+std::vector<ReferenceOverlay> overlays_of(const Case& c) {
+  std::vector<ReferenceOverlay> out;
+  try {
+    if (c.name == "buchner") {
+      check_validation_case("buchner", c);
+      // t* = t sqrt(g/H) and p* = p / (rho0 g H) back to seconds and pascals.
+      const double height = water_column(c).max[1], g = gravity_of(c);
+      Series data = reference_table("buchner2002_p_wall_pysph.csv").series("tstar", "pstar");
+      for (double& t : data.t) t /= std::sqrt(g / height);
+      for (double& p : data.y) p *= c.rest_density * g * height;
+      out.push_back({"probes", "wall_pressure", "pressure", "Buchner (2002)", false, std::move(data)});
+    } else if (c.name == "spheric2") {
+      return spheric2_overlays(c);
+    }
+    // A wave maker that follows an NTNU record: the record's wave probes of the same names, on the
+    // run's clock (the file's time plus the law's time_offset), less their level in the record's
+    // first 3 s (before the maker moves: the records start 4 s before it).
+    for (const Region& wall : c.walls)
+      for (const MotionLawSpec* law : {&wall.translation, &wall.rotation}) {
+        if (law->law != MotionLawType::file || !law->file.starts_with("ntnu_flume2025_")) continue;
+        const Table record = reference_table(law->file);
+        for (const Probe& probe : c.probes) {
+          if (probe.type != ProbeType::gauge) continue;
+          for (const std::string& column : record.columns) {
+            if (column != probe.name && !column.starts_with(probe.name + " [")) continue;
+            Series data = record.series(record.columns.front(), column);
+            double still = 0.0;
+            std::size_t n = 0;
+            for (std::size_t k = 0; k < data.size() && data.t[k] < data.t.front() + 3.0; ++k) still += data.y[k], ++n;
+            if (n > 0) still /= static_cast<double>(n);
+            for (double& t : data.t) t += law->time_offset;
+            for (double& y : data.y) y -= still;
+            out.push_back({"probes", probe.name, "height", fmt::format("NTNU record {}", law->file), true, std::move(data)});
+          }
+        }
+        return out;
+      }
+  } catch (const std::exception&) {
+    return {};  // not the case its data are for
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<ReferenceOverlay> reference_overlays(const Case& c) {
+  std::vector<ReferenceOverlay> out = overlays_of(c);
+  // Up to the run's end: a record may go on for long after it.
+  for (ReferenceOverlay& o : out) {
+    std::size_t n = 0;
+    while (n < o.data.size() && o.data.t[n] <= c.end_time) ++n;
+    o.data.t.resize(n);
+    o.data.y.resize(n);
+  }
+  return out;
+}
+
 ValidationResult evaluate_buchner(const Case& c, const fs::path& run_dir, const ValidationBounds& b) {
   check_buchner_column(c);
   const double height = water_column(c).max[1];

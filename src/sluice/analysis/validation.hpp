@@ -154,6 +154,24 @@ ValidationResult evaluate_wave_flume(const Case& c, const std::filesystem::path&
 ValidationResult evaluate_ntnu_flume(const std::string& case_name, const Case& c, const std::filesystem::path& run_dir,
                                      const ValidationBounds& b);
 
+// An experiment's (or reference solution's) series drawn over a run's own, in the live view: on the
+// run's clock and in the units of the run's column `column` of `group`/`series`.csv.
+struct ReferenceOverlay {
+  std::string group;   // "probes"
+  std::string series;  // the file's stem: the probe's name
+  std::string column;  // the run's column it is drawn against
+  std::string label;   // where the data come from
+  // The data are departures from the water at rest (a wave gauge's elevation): drawn from the run's
+  // first value of the column.
+  bool from_first_value = false;
+  Series data;
+};
+// The reference data of a validation case for its probes, or none (a case with no such data, or one
+// no longer the case its data are for): Buchner's wall pressure, SPHERIC test 2's pressures and
+// levels, and the wave gauges of a case whose wave maker follows an NTNU record.
+std::vector<ReferenceOverlay> reference_overlays(const Case& c);
+std::vector<ReferenceOverlay> spheric2_overlays(const Case& c);  // (analysis/spheric2.cpp)
+
 // A probe's series from a finished run (run_dir/probes/<probe>.csv): time and the named column.
 Series probe_series(const std::filesystem::path& run_dir, const std::string& probe, const std::string& column);
 

@@ -8,6 +8,7 @@
 #include <functional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "sluice/case/case.hpp"
 #include "sluice/core/communicator.hpp"
@@ -57,5 +58,7 @@ void render_after_run(const std::filesystem::path& output_dir, const std::string
 // The server's options for `--host` and `--port` (view_command.cpp): a token for every request when
 // the host is not this machine's loopback.
 view::ServerOptions view_options(const std::string& host, int port);
+// The experiment's data of a validation case, drawn over its probe series (analysis::reference_overlays).
+std::vector<view::Overlay> view_overlays(const Case& c);
 
 }  // namespace sluice::app

@@ -17,6 +17,7 @@
 #include "sluice/case/load.hpp"
 #include "sluice/case/overrides.hpp"
 #include "sluice/io/atomic_file.hpp"
+#include "sluice/io/checkpoint.hpp"
 #include "sluice/io/run.hpp"
 #include "sluice/physics/simd_target.hpp"
 
@@ -105,6 +106,10 @@ int run(const RunArgs& a) {
   if (a.view && root) {
     view::ServerOptions o = view_options(a.host, a.port);
     o.controls = &controls;
+    try {  // the reference data are extras: a restart whose checkpoint cannot be read fails below anyway
+      o.overlays = view_overlays(options.restart ? read_checkpoint(*options.restart).config : c);
+    } catch (const std::exception&) {
+    }
     server = std::make_unique<view::ViewServer>(options.output_dir, o);
     std::cerr << fmt::format("sluice: watch the run at {}\n", server->address());
   }

@@ -5,9 +5,12 @@
 #include <chrono>
 #include <csignal>
 #include <iostream>
+#include <utility>
 #include <thread>
 
+#include "sluice/analysis/validation.hpp"
 #include "sluice/app/commands.hpp"
+#include "sluice/io/checkpoint.hpp"
 #include "sluice/io/run_outputs.hpp"
 #include "sluice/view/view_server.hpp"
 
@@ -37,6 +40,13 @@ int view(const ViewArgs& a) {
                                "directory, sluice run -o DIR)",
                                a.dir, output_files::frames_dir, output_files::diagnostics));
   view::ServerOptions o = view_options(a.host, a.port);
+  // The case, for its reference data, from the checkpoint (a run that has written none yet, or a
+  // damaged one, is shown without them).
+  try {
+    if (fs::is_regular_file(dir / output_files::checkpoint, ec))
+      o.overlays = view_overlays(read_checkpoint(dir / output_files::checkpoint).config);
+  } catch (const std::exception&) {
+  }
   view::ViewServer server(dir, o);
   std::signal(SIGINT, on_view_signal);
   std::signal(SIGTERM, on_view_signal);
@@ -59,6 +69,13 @@ view::ServerOptions view_options(const std::string& host, int port) {
   o.port = port;
   o.token_for_everything = host != "127.0.0.1" && host != "localhost" && host != "::1";
   return o;
+}
+
+std::vector<view::Overlay> view_overlays(const Case& c) {
+  std::vector<view::Overlay> out;
+  for (analysis::ReferenceOverlay& r : analysis::reference_overlays(c))
+    out.push_back({r.group, r.series, r.column, r.label, r.from_first_value, std::move(r.data.t), std::move(r.data.y)});
+  return out;
 }
 
 Command add_view_command(CLI::App& app) {

@@ -129,6 +129,17 @@ json series_json(const fs::path& dir) {
   return out;
 }
 
+// An overlay's data, thinned to at most `most` points (the page's plots are a few hundred pixels wide).
+json overlay_json(const Overlay& o, std::size_t most = 4000) {
+  const std::size_t n = std::min(o.t.size(), o.value.size());
+  const std::size_t stride = n > most ? (n + most - 1) / most : 1;
+  json t = json::array(), v = json::array();
+  for (std::size_t k = 0; k < n; k += stride)
+    if (std::isfinite(o.t[k]) && std::isfinite(o.value[k])) t.push_back(o.t[k]), v.push_back(o.value[k]);
+  return {{"group", o.group}, {"series", o.series}, {"column", o.column}, {"label", o.label},
+          {"from_first_value", o.from_first_value}, {"t", t}, {"value", v}};
+}
+
 // The case's name: the ParaView index's, or the summary's.
 std::string case_name(const fs::path& dir) {
   std::error_code ec;
@@ -349,9 +360,13 @@ struct ViewServer::Impl {
         error(res, 422, fmt::format("frame {} cannot be shown: {}", index, e.what()));
       }
     });
-    server.Get("/api/series", [this](const httplib::Request&, httplib::Response& res) {
+    // Made once: the reference data do not change.
+    json references = json::array();
+    for (const Overlay& o : options.overlays) references.push_back(overlay_json(o));
+    server.Get("/api/series", [this, references](const httplib::Request&, httplib::Response& res) {
       res.set_content(json{{"probes", series_json(dir / output_files::probes_dir)},
-                           {"bodies", series_json(dir / output_files::bodies_dir)}}
+                           {"bodies", series_json(dir / output_files::bodies_dir)},
+                           {"references", references}}
                           .dump(),
                       "application/json");
     });

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace sluice::view {
 
@@ -19,6 +20,16 @@ struct Controls {
   std::atomic<bool> pause{false};
   std::atomic<bool> checkpoint{false};
   std::atomic<bool>* stop = nullptr;  // the run's Ctrl-C flag
+};
+
+// Reference data drawn over one of the run's series (a validation case's experiment).
+struct Overlay {
+  std::string group;   // "probes" or "bodies"
+  std::string series;  // the file's stem
+  std::string column;  // the run's column it is drawn against
+  std::string label;   // where the data come from
+  bool from_first_value = false;  // departures from rest: drawn from the run's first value of the column
+  std::vector<double> t, value;   // on the run's clock, in the column's units
 };
 
 struct ServerOptions {
@@ -31,6 +42,7 @@ struct ServerOptions {
   Controls* controls = nullptr;  // live mode: the run's controls (null: read-only)
   // The largest frame sent whole; a larger one is thinned to about this many particles.
   std::size_t max_particles = 250000;
+  std::vector<Overlay> overlays;  // sent with the series (GET /api/series: "references")
 };
 
 // Thrown by the server for a port in use or an address it cannot listen on.

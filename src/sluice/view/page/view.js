@@ -321,12 +321,16 @@ function writeStatus() {
     label: $("time").textContent, frames: state.frames.length, coloured: pixels.coloured, water: pixels.water,
     draws: state.drawn, message: $("message").hidden ? "" : $("message").textContent,
     dimension: state.shown ? state.shown.dimension : null,
+    references: [...document.querySelectorAll(".plot")].filter((b) => b.dataset.reference).length,
   });
 }
 
 // ---- series and diagnostics ----------------------------------------------------------------------
 
-function plot(name, table) {
+// A series' columns against time, each on its own vertical scale; a reference (a validation case's
+// experiment, dashed grey) shares the scale of the column it is drawn against, and the time axis
+// spans both.
+function plot(name, table, reference) {
   let box = document.querySelector(`.plot[data-name="${CSS.escape(name)}"]`);
   if (!box) {
     box = document.createElement("div");
@@ -336,30 +340,49 @@ function plot(name, table) {
     $("plots").appendChild(box);
   }
   const columns = table.columns.slice(1, 4);
-  box.querySelector(".name").textContent = `${name}: ${columns.join(", ")} against ${table.columns[0]}`;
+  box.querySelector(".name").textContent = `${name}: ${columns.join(", ")} against ${table.columns[0]}` +
+    (reference ? `; dashed: ${reference.label}` : "");
+  box.dataset.reference = reference ? reference.label : "";
   const cv = box.querySelector("canvas"), c = cv.getContext("2d");
   cv.width = cv.clientWidth; cv.height = cv.clientHeight;
   c.clearRect(0, 0, cv.width, cv.height);
   const rows = table.rows;
   if (rows.length < 2) return;
-  const t0 = rows[0][0], t1 = rows[rows.length - 1][0];
+  const refColumn = reference ? columns.indexOf(reference.column) : -1;
+  let ref = null;
+  if (refColumn >= 0 && reference.t.length > 1) {
+    const first = rows[0][refColumn + 1];
+    const base = reference.from_first_value && first !== null ? first : 0;
+    ref = { t: reference.t, v: reference.value.map((v) => v + base) };
+  }
+  let t0 = rows[0][0], t1 = rows[rows.length - 1][0];
+  if (ref) { t0 = Math.min(t0, ref.t[0]); t1 = Math.max(t1, ref.t[ref.t.length - 1]); }
+  const xOf = (t) => 4 + (cv.width - 8) * (t - t0) / (t1 - t0 || 1);
   const colours = ["#1f77b4", "#d62728", "#2ca02c"];
   columns.forEach((col, j) => {
     const values = rows.map((r) => r[j + 1]).filter((v) => v !== null && isFinite(v));
     if (!values.length) return;
     let lo = Math.min(...values), hi = Math.max(...values);
+    if (ref && j === refColumn) for (const v of ref.v) { lo = Math.min(lo, v); hi = Math.max(hi, v); }
     if (hi - lo < 1e-12) { lo -= 1; hi += 1; }
+    const yOf = (v) => cv.height - 4 - (cv.height - 8) * (v - lo) / (hi - lo);
+    if (ref && j === refColumn) {
+      c.strokeStyle = "#777";
+      c.setLineDash([4, 3]);
+      c.beginPath();
+      ref.t.forEach((t, i) => { if (i === 0) c.moveTo(xOf(t), yOf(ref.v[i])); else c.lineTo(xOf(t), yOf(ref.v[i])); });
+      c.stroke();
+      c.setLineDash([]);
+    }
     c.strokeStyle = colours[j];
     c.beginPath();
     rows.forEach((r, i) => {
-      const x = 4 + (cv.width - 8) * (r[0] - t0) / (t1 - t0 || 1);
-      const y = cv.height - 4 - (cv.height - 8) * (r[j + 1] - lo) / (hi - lo);
-      if (i === 0) c.moveTo(x, y); else c.lineTo(x, y);
+      if (i === 0) c.moveTo(xOf(r[0]), yOf(r[j + 1])); else c.lineTo(xOf(r[0]), yOf(r[j + 1]));
     });
     c.stroke();
   });
   if (state.shown) {  // the frame shown
-    const x = 4 + (cv.width - 8) * (state.shown.time - t0) / (t1 - t0 || 1);
+    const x = xOf(state.shown.time);
     c.strokeStyle = "#999";
     c.beginPath(); c.moveTo(x, 0); c.lineTo(x, cv.height); c.stroke();
   }
@@ -367,9 +390,12 @@ function plot(name, table) {
 
 async function refreshSeries() {
   const series = await (await fetch(api("/api/series"))).json();
+  const references = series.references || [];
   for (const group of ["probes", "bodies"])
     for (const [name, table] of Object.entries(series[group] || {}))
-      if (table.rows) plot((group === "bodies" ? "body " : "") + name, table);
+      if (table.rows)
+        plot((group === "bodies" ? "body " : "") + name, table,
+             references.find((r) => r.group === group && r.series === name));
   const d = await (await fetch(api("/api/diagnostics"))).json();
   if (d.rows && d.rows.length) {
     const last = d.rows[d.rows.length - 1];
