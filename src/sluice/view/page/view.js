@@ -17,7 +17,9 @@ const state = {
 // ---- WebGL -------------------------------------------------------------------------------------
 
 const canvas = $("gl");
-const gl = canvas.getContext("webgl", { preserveDrawingBuffer: true, antialias: true, alpha: false });
+// The drawing buffer is not kept after it is shown (keeping it costs a copy a frame): what reads its
+// pixels draws first, in the same task (report).
+const gl = canvas.getContext("webgl", { preserveDrawingBuffer: false, antialias: false, alpha: false });
 const vertexShader = `
 attribute vec3 position; attribute float value; attribute float kind;
 uniform mat4 matrix; uniform float size; uniform float perspective; uniform float lo; uniform float hi;
@@ -120,8 +122,14 @@ function upload(frame) {
 }
 
 function draw() {
+  if (!state.shown) return;
+  drawScene();
+  state.drawn++;
+  report();
+}
+
+function drawScene() {
   const frame = state.shown;
-  if (!frame) return;
   const dpr = window.devicePixelRatio || 1;
   const w = Math.round(canvas.clientWidth * dpr), h = Math.round(canvas.clientHeight * dpr);
   if (canvas.width !== w || canvas.height !== h) { canvas.width = w; canvas.height = h; }
@@ -168,15 +176,22 @@ function draw() {
     gl.uniform1f(loc.pass, 0);
     gl.drawArrays(gl.POINTS, 0, frame.n);
   }
-  state.drawn++;
-  report();
 }
 
 // ---- frames ------------------------------------------------------------------------------------
 
-async function fetchFrame(index, field) {
+// A frame, from the page's cache of the last 24 (a request on its way counts: asked twice, fetched once).
+function fetchFrame(index, field) {
   const key = index + "/" + field;
   if (state.cache.has(key)) return state.cache.get(key);
+  const promise = requestFrame(index, field);
+  promise.catch(() => state.cache.delete(key));
+  state.cache.set(key, promise);
+  if (state.cache.size > 24) state.cache.delete(state.cache.keys().next().value);
+  return promise;
+}
+
+async function requestFrame(index, field) {
   const response = await fetch(api(`/api/frame/${index}?field=${field}`));
   if (!response.ok) {
     const e = await response.json().catch(() => ({ error: response.statusText }));
@@ -187,14 +202,11 @@ async function fetchFrame(index, field) {
   const header = JSON.parse(new TextDecoder().decode(new Uint8Array(bytes, 4, length)));
   const n = header.n, d = header.dimension;
   let at = 4 + length;
-  const frame = Object.assign(header, {
+  return Object.assign(header, {
     position: new Float32Array(bytes, at, n * d),
     value: new Float32Array(bytes, at + 4 * n * d, n),
     kind: new Uint8Array(bytes, at + 4 * n * d + 4 * n, n),
   });
-  state.cache.set(key, frame);
-  if (state.cache.size > 24) state.cache.delete(state.cache.keys().next().value);
-  return frame;
 }
 
 function boundsOf(frame) {
@@ -219,7 +231,10 @@ async function show(k) {
       state.fieldChanged = false;
       const entry = state.frames[want];
       if (!entry) break;
+      // The next frame the way the slider moves is asked for while this one is drawn.
+      const ahead = state.frames[want + (want < state.current ? -1 : 1)];
       const frame = await fetchFrame(entry.index, field);
+      if (ahead) fetchFrame(ahead.index, field).catch(() => {});
       if (!state.bounds) state.bounds = boundsOf(frame);
       if (!state.range || state.rangeField !== field) {
         state.range = await runRange(field, frame);
@@ -304,6 +319,7 @@ function report() {
     pixels.water = 0;
     if (state.shown) {
       const w = canvas.width, h = canvas.height, data = new Uint8Array(4 * w * h);
+      drawScene();
       gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, data);
       for (let i = 0; i < data.length; i += 4 * 7) {
         const r = data[i], g = data[i + 1], b = data[i + 2];
