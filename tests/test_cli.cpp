@@ -231,6 +231,13 @@ TEST_F(Cli, SimdChoosesThePairLoopsInstructionSet) {
                    {"--simd", "unknown or unsupported SIMD target 'avx9000'", list});
 }
 
+// --fixed-threads steps on --threads threads throughout; the summary says how many.
+TEST_F(Cli, FixedThreadsKeepsTheCount) {
+  const Result r = sluice(with_tiny({"run", "--threads", "2", "--fixed-threads", "-o", "o"}));
+  EXPECT_EQ(r.status, 0) << r.err;
+  expect_contains(r.out, {"threads     2\n"});
+}
+
 TEST_F(Cli, RestartTakesNoCase) {
   expect_bad_input(sluice({"run", "dam_break", "--restart", "x.bin", "-o", "o"}), {"--restart"});
   expect_only({});

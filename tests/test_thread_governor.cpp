@@ -34,7 +34,7 @@ double share_at(const std::vector<int>& used, int threads) {
 
 TEST(ThreadGovernor, OneThreadNeverAsksTheOtherProcesses) {
   int calls = 0;
-  ThreadGovernor g(1, [&](double v) { ++calls; return v; });
+  ThreadGovernor g(1, true, [&](double v) { ++calls; return v; });
   const auto used = drive(g, 10000, [](int, long) { return 1e-3; });
   EXPECT_EQ(share_at(used, 1), 1.0);
   EXPECT_EQ(calls, 0);
@@ -42,9 +42,17 @@ TEST(ThreadGovernor, OneThreadNeverAsksTheOtherProcesses) {
   EXPECT_EQ(g.shares()[0].steps, 10000);
 }
 
+TEST(ThreadGovernor, FixedKeepsItsCountWhereFewerWouldBeFaster) {
+  int calls = 0;
+  ThreadGovernor g(2, false, [&](double v) { ++calls; return v; });
+  const auto used = drive(g, 10000, [](int threads, long) { return threads == 2 ? 2e-3 : 1e-3; });
+  EXPECT_EQ(share_at(used, 2), 1.0);
+  EXPECT_EQ(calls, 0);
+}
+
 TEST(ThreadGovernor, AQuietMachineKeepsEveryThread) {
   // Two threads 1.8 times as fast as one: the probes at one thread are a small share of the steps.
-  ThreadGovernor g(2, same);
+  ThreadGovernor g(2, true, same);
   const auto used = drive(g, 200000, [](int threads, long) { return threads == 2 ? 1e-3 / 1.8 : 1e-3; });
   EXPECT_EQ(used.front(), 2);
   EXPECT_EQ(g.threads(), 2);
@@ -54,7 +62,7 @@ TEST(ThreadGovernor, AQuietMachineKeepsEveryThread) {
 TEST(ThreadGovernor, ABusyMachineComesDownToFewerAndGoesBackUpWhenQuiet) {
   // Busy for the first 20,000 steps (two threads take 1.3 times as long as one), quiet afterwards;
   // below its most threads the run probes up at least every 10 s (here 18,000 quiet steps).
-  ThreadGovernor g(2, same);
+  ThreadGovernor g(2, true, same);
   const auto seconds = [](int threads, long step) {
     const bool busy = step < 20000;
     if (threads == 1) return 1e-3;
@@ -70,7 +78,7 @@ TEST(ThreadGovernor, ABusyMachineComesDownToFewerAndGoesBackUpWhenQuiet) {
 
 TEST(ThreadGovernor, ManyThreadsComeDownByHalves) {
   // Eight threads on a machine where four are fastest: 8 -> 4, and it stays there.
-  ThreadGovernor g(8, same);
+  ThreadGovernor g(8, true, same);
   const auto used = drive(g, 100000, [](int threads, long) {
     switch (threads) {
       case 8: return 0.5e-3;
@@ -90,8 +98,8 @@ TEST(ThreadGovernor, ProcessesWithDifferentTimesDecideAlike) {
   const auto machine = [](double scale) {
     return [scale](int threads, long step) { return scale * (threads == 2 && step > 5000 ? 1.5e-3 : 1e-3); };
   };
-  ThreadGovernor a(2, [&](double v) { asked_a.push_back(v); return 2.0 * v; });
-  ThreadGovernor b(2, [&](double v) { asked_b.push_back(v); return v; });
+  ThreadGovernor a(2, true, [&](double v) { asked_a.push_back(v); return 2.0 * v; });
+  ThreadGovernor b(2, true, [&](double v) { asked_b.push_back(v); return v; });
   const auto used_a = drive(a, 30000, machine(1.0));
   const auto used_b = drive(b, 30000, machine(2.0));
   EXPECT_EQ(used_a, used_b);

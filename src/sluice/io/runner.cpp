@@ -140,7 +140,7 @@ struct Runner::Impl {
     const Reducer& all = options_.comm != nullptr ? options_.comm->reducer() : serial_reducer();
     const auto threads = static_cast<double>(options_.threads);
     const bool adapt = options_.adapt_threads && all.min(threads) == all.max(threads);
-    governor_.emplace(adapt ? options_.threads : 1, [reducer = &all](double v) { return reducer->max(v); });
+    governor_.emplace(options_.threads, adapt, [reducer = &all](double v) { return reducer->max(v); });
     sim_->set_threads(governor_->threads());
     // The set-up's notes now, before a long run, and again in the summary.
     if (sim_->is_root() && options_.progress != ProgressMode::none) {

@@ -24,11 +24,11 @@ constexpr double kMargin = 0.05;
 
 }  // namespace
 
-ThreadGovernor::ThreadGovernor(int max_threads, std::function<double(double)> max_over_processes)
+ThreadGovernor::ThreadGovernor(int max_threads, bool adapt, std::function<double(double)> max_over_processes)
     : max_over_processes_(std::move(max_over_processes)), hold_seconds_(kFirstHoldSeconds) {
   for (int t = std::max(1, max_threads);; t /= 2) {
     levels_.push_back(t);
-    if (t == 1) break;
+    if (t == 1 || !adapt) break;
   }
   steps_at_.assign(levels_.size(), 0);
   start(Phase::hold, kWarmUpSteps);

@@ -19,9 +19,10 @@ namespace sluice {
 
 class ThreadGovernor {
  public:
-  // Up to `max_threads` threads; `max_over_processes` gives the largest of a value over the run's
-  // processes (the value itself for one process) and is called at the same steps on every process.
-  ThreadGovernor(int max_threads, std::function<double(double)> max_over_processes);
+  // Up to `max_threads` threads (exactly that many when `adapt` is false); `max_over_processes` gives
+  // the largest of a value over the run's processes (the value itself for one process) and is called
+  // at the same steps on every process.
+  ThreadGovernor(int max_threads, bool adapt, std::function<double(double)> max_over_processes);
 
   // The thread count for the next step.
   [[nodiscard]] int threads() const { return levels_[static_cast<std::size_t>(trying_)]; }
