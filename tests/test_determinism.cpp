@@ -1,6 +1,8 @@
 // Results do not depend on the number of threads: the pair loop gathers per particle in a fixed order.
 #include <gtest/gtest.h>
 
+#include <string>
+
 #include "sluice/case/params.hpp"
 #include "sluice/core/parallel.hpp"
 #include "sluice/simulation.hpp"
@@ -42,19 +44,24 @@ TEST_P(Determinism, OneAndTwoThreadsGiveBitIdenticalResults) {
     apply_override(c, "physics.wall_boundary=" + walls.substr(0, plus));
     if (plus != std::string::npos) apply_override(c, "physics.wall_friction=" + walls.substr(plus + 1));
     // `switching` changes its thread count between steps, as a run on a busy machine does
-    // (io/thread_governor.hpp).
+    // (io/thread_governor.hpp); with the default integrator only, to keep the test short.
+    const bool switches = std::string(integrator) == "leapfrog";
     Simulation one(c, 1), two(c, 2), switching(c, 2);
     ASSERT_GE(static_cast<long>(one.particles<2>().size()), parallel::pair_loop_threshold)
         << "too few particles for the neighbour loops to run on two threads";
     for (int s = 0; s < 150; ++s) {
       one.step();
       two.step();
-      switching.set_threads(s % 5 < 2 ? 1 : 2);
-      switching.step();
+      if (switches) {
+        switching.set_threads(s % 5 < 2 ? 1 : 2);
+        switching.step();
+      }
     }
     EXPECT_EQ(one.time(), two.time()) << integrator << " " << walls;
     EXPECT_EQ(state_by_id(one), state_by_id(two)) << integrator << " " << walls;
-    EXPECT_EQ(state_by_id(one), state_by_id(switching)) << integrator << " " << walls;
+    if (switches) {
+      EXPECT_EQ(state_by_id(one), state_by_id(switching)) << integrator << " " << walls;
+    }
     EXPECT_GT(one.diagnostics().max_speed, 0.5) << "the column must have started to move";
   }
 }
