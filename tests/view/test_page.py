@@ -114,6 +114,18 @@ check(bad.returncode == 2 and "not a sluice run" in bad.stderr, f"not a run: {ba
 bad = subprocess.run([args.sluice, "view", os.path.join(work, "nothing")], capture_output=True, text=True)
 check(bad.returncode == 2 and "no such run directory" in bad.stderr, f"no directory: {bad.stderr.strip()}")
 
+def frames_on_disk(run_dir):
+    frames = os.path.join(run_dir, "frames")
+    return len([f for f in os.listdir(frames) if f.endswith(".npz")]) if os.path.isdir(frames) else 0
+
+
+def wait_for_frames(run_dir, more_than, seconds=60):
+    """Waits until the run has written more than `more_than` frames (a sanitizer build steps slowly)."""
+    deadline = time.time() + seconds
+    while frames_on_disk(run_dir) <= more_than and time.time() < deadline:
+        time.sleep(0.2)
+
+
 # A live run: the page follows it, and its controls pause, resume and stop it.
 port = free_port()
 live_dir = os.path.join(work, "live")
@@ -130,9 +142,9 @@ while not address:
     address = m.group(1) if m else ""
 check(bool(address), f"sluice run --view prints the address with its token: {address}")
 token = address.split("token=")[1]
-time.sleep(2)
+wait_for_frames(live_dir, 3)
 first = chromium(f"http://127.0.0.1:{port}/", os.path.join(work, "live.png"), budget=4000)
-time.sleep(3)
+wait_for_frames(live_dir, frames_on_disk(live_dir) + 2)
 second = chromium(f"http://127.0.0.1:{port}/", budget=4000)
 check(first.get("frame") is not None and second.get("frame", -1) > first.get("frame"),
       f"the live page follows the run: frame {first.get('frame')}, then {second.get('frame')}")
@@ -161,7 +173,7 @@ check(api(f"/api/control/checkpoint?token={token}", post=True)[0] == 200, "check
 time.sleep(1.0)
 check(os.path.exists(checkpoint) and os.stat(checkpoint).st_mtime_ns > written, "a checkpoint written while paused")
 check(api(f"/api/control/resume?token={token}", post=True)[0] == 200, "resume")
-time.sleep(2.0)
+wait_for_frames(live_dir, before)
 check(len(api("/api/run")[1]["frames"]) > before, "running again after resume")
 check(api(f"/api/control/stop?token={token}", post=True)[0] == 200, "stop")
 status = live.wait(timeout=60)
