@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Two threads over one, side by side in one go, at about 3k, 20k, 100k and 1M particles: in 2D the
-# default dam break (dx = 0.13, 0.05, 0.022, 0.007 m: 4,246 / 23,236 / 109,435 / 1,119,675
+# default dam break (dx = 0.13, 0.05, 0.022, 0.007 m: 4,246 / 23,236 / 109,435 / 1,026,466
 # particles), in 3D SPHERIC test 2 (dx = 0.09, 0.035, 0.025, 0.0105 m: about 5k / 48k / 100k / 906k).
 # Each size is measured ROUNDS times on one thread and on two, alternated, by sluice-bench-run (the
 # solver's steps alone, in a child process each); then the pair loop's share of a one-thread run of
