@@ -1,9 +1,9 @@
 // How OpenMP threads wait between the parallel loops of a step. Threads that sleep at once (the
 // passive policy) cost a wake-up, a system call and a context switch at each of the dozen loops of a
-// step: on a quiet machine, 13 % of a two-thread run's samples at 20k particles were in the kernel's
-// futex calls. Threads that spin for long (libgomp's default: about 300,000 checks) take the core
-// another process needs: with a busy process beside, a two-thread run took 2.8 times as long as
-// with the passive policy. So the threads spin briefly, long enough for the gaps between the loops
+// step: on a quiet machine, 12 % of a two-thread run's samples at 24k particles were in the kernel's
+// futex calls. Threads that spin for long (libgomp's default is 300,000 checks) take the core another
+// process needs: with a busy process beside, a two-thread run spinning 20,000 checks took 2.8 times
+// as long as with the passive policy. So the threads spin briefly, long enough for the gaps between the loops
 // of one step, and then sleep; and a run on a busy machine steps with fewer threads
 // (io/thread_governor.hpp).
 #pragma once
