@@ -5,8 +5,8 @@
 #include <chrono>
 #include <csignal>
 #include <iostream>
-#include <utility>
 #include <thread>
+#include <utility>
 
 #include "sluice/analysis/validation.hpp"
 #include "sluice/app/commands.hpp"
