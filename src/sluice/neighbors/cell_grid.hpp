@@ -76,19 +76,48 @@ class CellGrid {
     cell_of_.resize(static_cast<std::size_t>(n));
     order_.resize(static_cast<std::size_t>(n));
     cursor_.resize(static_cast<std::size_t>(teams) * cells);
+    odd_count_.resize(static_cast<std::size_t>(teams) * cells);
     cells_before_.assign(static_cast<std::size_t>(teams) + 1, 0u);
     parallel::in_team(teams, teams > 1, [&](const parallel::Team& team) {
       const long t = team.index(), size = team.size();
       const long begin = n * t / size, end = n * (t + 1) / size;
       std::uint32_t* __restrict count = cursor_.data() + static_cast<std::size_t>(t) * cells;
       std::fill(count, count + cells, 0u);
+      // The cells first, in a loop of its own that the compiler can vectorise: its numbers in locals
+      // (a store to cell_of_ could otherwise change the members, as far as the compiler knows).
+      std::array<const double*, Dim> x{};
+      std::array<double, Dim> lower{}, last{};
+      std::array<std::uint32_t, Dim> along{};
+      for (int k = 0; k < Dim; ++k) {
+        x[k] = position[axis_[k]].data();
+        lower[k] = lower_[k];
+        last[k] = static_cast<double>(count_[k] - 1);
+        along[k] = static_cast<std::uint32_t>(count_[k]);
+      }
+      const double inv = inv_cell_size_;
+      std::uint32_t* __restrict cell = cell_of_.data();
       for (long i = begin; i < end; ++i) {
         std::uint32_t c = 0;
-        for (int k = Dim - 1; k >= 0; --k)
-          c = c * static_cast<std::uint32_t>(count_[k]) + grid_coordinate(position[axis_[k]][i], k);
-        cell_of_[i] = c;
-        ++count[c];
+        for (int k = Dim - 1; k >= 0; --k) {
+          const double u = (x[k][i] - lower[k]) * inv;
+          // Clamped as grid_coordinate does (not a number: 0), without branches.
+          const double clamped = u > 0.0 ? (u < last[k] ? u : last[k]) : 0.0;
+          c = c * along[k] + static_cast<std::uint32_t>(static_cast<int>(clamped));
+        }
+        cell[i] = c;
       }
+      // Counted in two tables, the even and the odd particles: the particles are in the last
+      // binning's order, a cell's together, and with one table an increment would wait on the store
+      // of the one before.
+      std::uint32_t* __restrict odd = odd_count_.data() + static_cast<std::size_t>(t) * cells;
+      std::fill(odd, odd + cells, 0u);
+      long i = begin;
+      for (; i + 1 < end; i += 2) {
+        ++count[cell[i]];
+        ++odd[cell[i + 1]];
+      }
+      if (i < end) ++count[cell[i]];
+      for (std::size_t c = 0; c < cells; ++c) count[c] += odd[c];
       team.barrier();
       const std::size_t c_begin = cells * static_cast<std::size_t>(t) / static_cast<std::size_t>(size);
       const std::size_t c_end = cells * static_cast<std::size_t>(t + 1) / static_cast<std::size_t>(size);
@@ -112,7 +141,7 @@ class CellGrid {
       }
       if (t == size - 1) cell_start_[cells] = running;
       team.barrier();
-      for (long i = begin; i < end; ++i) order_[count[cell_of_[i]]++] = static_cast<std::uint32_t>(i);
+      for (long i = begin; i < end; ++i) order_[count[cell[i]]++] = static_cast<std::uint32_t>(i);
       team.barrier();
       // Cell of each particle in sorted order, written over the unsorted cells, which no thread reads
       // any more: the particles of this thread's share of the cells (the region's end is the barrier).
@@ -356,6 +385,7 @@ class CellGrid {
   std::vector<std::uint32_t> cell_of_;
   std::vector<std::uint32_t> order_;
   std::vector<std::uint32_t> cursor_;
+  std::vector<std::uint32_t> odd_count_;  // bin(): the odd particles' counts, per thread
   std::vector<std::uint32_t> cells_before_;  // bin: the particles in the cells of the threads before each
 };
 

@@ -299,9 +299,21 @@ HWY_INLINE void for_each_pair(const Pair& pair, const CellGrid<Dim>& grid, const
 }
 
 // Fluid particles before each sorted index (for_each_pair's wall-particle test).
+// Where prefix_count runs on one thread, the count is this target's own loop: prefix_count is
+// compiled for the baseline and would call the test out of line for every particle.
 template <class R>
 std::vector<std::uint32_t> fluid_counts(const R* fluid, long n, int threads) {
   std::vector<std::uint32_t> before;
+  if (threads <= 1 || n < parallel::light_loop_threshold) {
+    before.resize(static_cast<std::size_t>(n) + 1);
+    std::uint32_t running = 0;
+    for (long i = 0; i < n; ++i) {
+      before[static_cast<std::size_t>(i)] = running;
+      running += fluid[i] != 0.0 ? 1u : 0u;
+    }
+    before[static_cast<std::size_t>(n)] = running;
+    return before;
+  }
   parallel::prefix_count(n, threads, before, [fluid](long i) { return fluid[i] != 0.0; });
   return before;
 }
