@@ -74,6 +74,25 @@ TEST(WaveGauges, HarmonicsAreFittedToRoundOff) {
   EXPECT_THROW(fit_harmonics(eta, omega, 2, 3.0, 3.5), AnalysisError);  // shorter than a period
 }
 
+// A body's slow drift under its wave motion: a straight line under the first harmonic, over a window
+// of 4 periods. With a straight-line background the harmonic comes back to round-off (and the
+// line's value at the window's middle as the mean); with only a mean the drift leaks into it.
+TEST(WaveGauges, ASlowDriftIsFittedApartFromTheHarmonic) {
+  const double omega = 2.0 * pi / 1.5, t0 = 10.0, t1 = 16.0;
+  const Series x = sampled(0.0, 20.0, 0.01, [&](double t) {
+    return 0.002 + 0.0015 * (t - 13.0) + 0.004 * std::cos(omega * t - 0.7);
+  });
+  const Harmonics line = fit_harmonics(x, omega, 1, t0, t1, 1);
+  EXPECT_NEAR(line.amplitude[0], 0.004, 1e-13);
+  EXPECT_NEAR(line.phase[0], 0.7, 1e-10);
+  EXPECT_NEAR(line.mean, 0.002, 1e-13);
+  EXPECT_LT(line.rms_residual, 1e-14);
+  const Harmonics mean_only = fit_harmonics(x, omega, 1, t0, t1);
+  EXPECT_GT(std::abs(mean_only.phase[0] - 0.7), 0.15);  // radians (10 degrees here): the drift moved it
+  EXPECT_GT(mean_only.rms_residual, 1e-4);
+  EXPECT_THROW(fit_harmonics(x, omega, 1, t0, t1, 4), AnalysisError);
+}
+
 // An incident wave and a reflected one of 30 % at an arbitrary phase: two gauges (Goda & Suzuki) and
 // three (least squares) give them back exactly; gauges half a wavelength apart cannot.
 TEST(WaveGauges, IncidentAndReflectedWavesAreSeparated) {

@@ -17,7 +17,10 @@
 // the record's heave accelerometers by 106 degrees where a harmonic motion's acceleration is opposite
 // it (180 degrees), in run 3102_1 by 10 degrees. The motions' phases are compared on the accelerometers'
 // clock: the tracker's series moved by the delay that makes its heave opposite the accelerometers'
-// mean heave acceleration (tracker_delay), the same delay for its sway and roll.
+// mean heave acceleration (tracker_delay), the same delay for its sway and roll. A body on its rig
+// also moves slowly under the waves (the record's sway swings by about a centimetre over the window
+// of run 3061_1, at no wave frequency): each motion's first harmonic is fitted together with a
+// straight line in time in place of its mean, so that the slow motion does not leak into it.
 //
 // A decay's period is the mean interval between the upward crossings of the motion's mean (its mean
 // over the run's second half; a crossing counted once the motion has been 5 % of its largest
@@ -359,10 +362,17 @@ struct HarmonicPair {
   [[nodiscard]] double phase_lag() const {
     return std::remainder(sim.phase[0] - measured.phase[0], 2.0 * std::numbers::pi) * 180.0 / std::numbers::pi;
   }
+  // The phase difference in words: "12.3 degrees behind it" or "4.5 degrees ahead of it".
+  [[nodiscard]] std::string lag_words() const {
+    const double lag = phase_lag();
+    return fmt::format("{:.1f} degrees {}", std::abs(lag), lag >= 0.0 ? "behind it" : "ahead of it");
+  }
 };
 
-HarmonicPair harmonic_pair(const Series& sim, const Series& measured, double omega, double t0, double t1) {
-  return {fit_harmonics(sim, omega, 1, t0, t1), fit_harmonics(measured, omega, 1, t0, t1)};
+// `background`: fit_harmonics' degree of the slow part.
+HarmonicPair harmonic_pair(const Series& sim, const Series& measured, double omega, double t0, double t1,
+                           int background = 0) {
+  return {fit_harmonics(sim, omega, 1, t0, t1, background), fit_harmonics(measured, omega, 1, t0, t1, background)};
 }
 
 Plot over_record(const std::string& title, const std::string& quantity, const Series& sim, const Series& measured,
@@ -395,9 +405,9 @@ void note_probes(ValidationResult& r, const Table& record, const WaveRun& w, con
     const HarmonicPair h = harmonic_pair(probe_series(run_dir, probe, "height"),
                                          record_series(record, column, w.time_offset), omega, t0, t1);
     r.notes.push_back(fmt::format("The waves at {} over the same window: first harmonic {:.4f} m against the probe's "
-                                  "{:.4f} m ({:+.1f} %), {:+.1f} degrees behind it.",
+                                  "{:.4f} m ({:+.1f} %), {}.",
                                   probe, h.sim.amplitude[0], h.measured.amplitude[0],
-                                  100.0 * (h.sim.amplitude[0] / h.measured.amplitude[0] - 1.0), h.phase_lag()));
+                                  100.0 * (h.sim.amplitude[0] / h.measured.amplitude[0] - 1.0), h.lag_words()));
   }
 }
 
@@ -439,10 +449,10 @@ ValidationResult evaluate_wave_run(const std::string& case_name, const Case& c, 
                                       case_name, f.what),
                           h.amplitude_error(), b.wave_force_percent});
       r.notes.push_back(fmt::format("{} force: first harmonic {:.2f} N/m x {} m = {:.2f} N against the transducer's "
-                                    "{:.2f} N ({:.2f} N/m), {:+.1f} degrees behind it; means over the window {:+.2f} N and {:+.2f} N.",
+                                    "{:.2f} N ({:.2f} N/m), {}; means over the window {:+.2f} N and {:+.2f} N.",
                                     f.what, h.sim.amplitude[0] / ntnu_model_length, ntnu_model_length,
                                     h.sim.amplitude[0], h.measured.amplitude[0],
-                                    h.measured.amplitude[0] / ntnu_model_length, h.phase_lag(), h.sim.mean,
+                                    h.measured.amplitude[0] / ntnu_model_length, h.lag_words(), h.sim.mean,
                                     h.measured.mean));
       // Each less its mean over the window: the simulation's holds the model's buoyancy, the
       // transducer was zeroed with the model in still water.
@@ -482,7 +492,7 @@ ValidationResult evaluate_wave_run(const std::string& case_name, const Case& c, 
                            Motion{"angle", "Roll [rad]", "roll", "deg", 180.0 / std::numbers::pi}}) {
       const Series sim = csv_column(bodies, m.sim);
       const Series measured = record_series(record, m.measured, w.time_offset, m.scale, delay);
-      const HarmonicPair h = harmonic_pair(sim, measured, omega, t0, t1);
+      const HarmonicPair h = harmonic_pair(sim, measured, omega, t0, t1, 1);
       r.checks.push_back({fmt::format("{}.{}_amplitude", case_name, m.what),
                           fmt::format("{}: {} first-harmonic amplitude error against the record, %", case_name, m.what),
                           h.amplitude_error(), b.motion_amplitude_percent});
@@ -490,10 +500,9 @@ ValidationResult evaluate_wave_run(const std::string& case_name, const Case& c, 
                           fmt::format("{}: {} first-harmonic phase difference from the record, degrees", case_name,
                                       m.what),
                           std::abs(h.phase_lag()), b.motion_phase_degrees});
-      r.notes.push_back(fmt::format("{}: first harmonic {:.4g} {} against the record's {:.4g} {} ({:+.1f} %), {:+.1f} "
-                                    "degrees behind it.",
+      r.notes.push_back(fmt::format("{}: first harmonic {:.4g} {} against the record's {:.4g} {} ({:+.1f} %), {}.",
                                     m.what, h.sim.amplitude[0], m.unit, h.measured.amplitude[0], m.unit,
-                                    100.0 * (h.sim.amplitude[0] / h.measured.amplitude[0] - 1.0), h.phase_lag()));
+                                    100.0 * (h.sim.amplitude[0] / h.measured.amplitude[0] - 1.0), h.lag_words()));
       // Centre the plot's curves on their means over the window: the record's are from its own origin.
       Series sim_c = sim, measured_c = measured;
       for (double& v : sim_c.y) v -= h.sim.mean;

@@ -91,22 +91,28 @@ std::complex<double> Harmonics::complex(int n) const {
   return std::polar(amplitude.at(k), -phase.at(k));
 }
 
-Harmonics fit_harmonics(const Series& eta, double omega, int count, double t0, double t1) {
+Harmonics fit_harmonics(const Series& eta, double omega, int count, double t0, double t1, int background) {
   if (count < 1 || !(omega > 0.0)) throw AnalysisError("harmonics: expected at least one harmonic and omega > 0");
+  if (background < 0 || background > 3) throw AnalysisError("harmonics: the background's degree is 0 to 3");
   if (!(t1 - t0 >= 2.0 * std::numbers::pi / omega * (1.0 - 1e-9)))
     throw AnalysisError(fmt::format("harmonics: the window [{}, {}] s is shorter than one period, {} s", t0, t1,
                                     2.0 * std::numbers::pi / omega));
   const auto [begin, end] = window_indices(eta, t0, t1);
-  const auto m = static_cast<std::size_t>(2 * count + 1);
+  const auto slow = static_cast<std::size_t>(background + 1);
+  const auto m = slow + static_cast<std::size_t>(2 * count);
   if (end - begin < m + 1)
     throw AnalysisError(fmt::format("harmonics: {} samples in [{}, {}] s; expected at least {}", end - begin, t0, t1, m + 1));
-  // Columns: 1, cos(n w t), sin(n w t); times from the window's start, for conditioning.
+  // Columns: the background's powers of s (the time from the window's middle over its half length,
+  // for conditioning), then cos(n w t), sin(n w t).
+  const double middle = 0.5 * (t0 + t1), half = 0.5 * (t1 - t0);
   std::vector<double> ata(m * m, 0.0), atb(m, 0.0), row(m);
   auto fill = [&](double t) {
+    const double s = (t - middle) / half;
     row[0] = 1.0;
+    for (std::size_t k = 1; k < slow; ++k) row[k] = row[k - 1] * s;
     for (int n = 1; n <= count; ++n) {
-      row[2 * n - 1] = std::cos(n * omega * t);
-      row[2 * n] = std::sin(n * omega * t);
+      row[slow + 2 * (n - 1)] = std::cos(n * omega * t);
+      row[slow + 2 * (n - 1) + 1] = std::sin(n * omega * t);
     }
   };
   for (std::size_t i = begin; i < end; ++i) {
@@ -123,7 +129,8 @@ Harmonics fit_harmonics(const Series& eta, double omega, int count, double t0, d
   h.mean = (*c)[0];
   h.samples = end - begin;
   for (int n = 1; n <= count; ++n) {
-    const double a = (*c)[2 * n - 1], b = (*c)[2 * n];  // a cos + b sin = A cos(n w t - phi)
+    // a cos + b sin = A cos(n w t - phi)
+    const double a = (*c)[slow + 2 * (n - 1)], b = (*c)[slow + 2 * (n - 1) + 1];
     h.amplitude.push_back(std::hypot(a, b));
     double phi = std::atan2(b, a);
     if (phi < 0.0) phi += 2.0 * std::numbers::pi;

@@ -36,8 +36,12 @@ struct Harmonics {
   std::size_t samples = 0;
   [[nodiscard]] std::complex<double> complex(int n) const;
 };
-// Throws AnalysisError with fewer samples than 2 count + 2, or a window shorter than one period.
-Harmonics fit_harmonics(const Series& eta, double omega, int count, double t0, double t1);
+// With `background` > 0 the mean is a polynomial of that degree in time (up to 3) fitted alongside
+// (a slow motion of its own under the harmonics, such as a moored body's drift), and `mean` is its
+// value at the window's middle.
+// Throws AnalysisError with fewer samples than 2 count + background + 2, or a window shorter than one
+// period.
+Harmonics fit_harmonics(const Series& eta, double omega, int count, double t0, double t1, int background = 0);
 
 // The first harmonics Z_m = Re-part amplitudes at gauges x_m split into an incident wave I e^{-i k x}
 // and a reflected one R e^{i k x}: the least-squares solution over the gauges (exact for two).
