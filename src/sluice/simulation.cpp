@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "sluice/case/release_gate.hpp"
+#include "sluice/core/heap.hpp"
 
 namespace sluice {
 
@@ -31,10 +32,16 @@ std::variant<Solver<2>, Solver<3>> resume_solver(const Case& c, AnyParticles par
 
 // The solver runs the case with its release gate made a wall (case/release_gate.hpp): config() and a
 // checkpoint hold the expanded case.
+// The steps keep the memory they free (core/heap.hpp); the set-up before them does not, so that its
+// large temporaries are given back and do not leave gaps in the heap.
 Simulation::Simulation(const Case& c, int threads, const Communicator* comm)
-    : solver_(make_solver(with_release_gate(c), threads, comm)) {}
+    : solver_(make_solver(with_release_gate(c), threads, comm)) {
+  keep_freed_memory();
+}
 
 Simulation::Simulation(const Case& c, AnyParticles particles, Clock clock, int threads, const Communicator* comm)
-    : solver_(resume_solver(with_release_gate(c), std::move(particles), clock, threads, comm)) {}
+    : solver_(resume_solver(with_release_gate(c), std::move(particles), clock, threads, comm)) {
+  keep_freed_memory();
+}
 
 }  // namespace sluice
