@@ -97,30 +97,23 @@ double SolidReach<Dim>::clear_fraction() const {
 
 namespace {
 
-// The sum of slow(i, x) over the fluid particles outside `near`'s clear cells (all fluid particles
-// without it). The test that skips the others, most of the water, is a few operations a particle,
-// kept in this loop; `slow` is called out of line for the few near a solid.
+// The sum of slow(i, x) over the fluid particles in [begin, end) outside `clear`'s cells (and not
+// marked in `skip`, if given). The test that passes over the others, most of the water, is a few
+// operations a particle, kept in this loop; `slow` is called out of line for the few near a solid.
 template <int Dim, class Slow>
-std::size_t count_near_solids(const Particles<Dim>& p, int threads, const SolidReach<Dim>* near, Slow&& slow) {
-  const long n = static_cast<long>(p.size());
-  long total = 0;
-  parallel::for_chunks(n, threads, [&](long begin, long end) {
-    const typename SolidReach<Dim>::Lookup clear =
-        near != nullptr ? near->lookup() : typename SolidReach<Dim>::Lookup{};
-    const Kind* const kind = p.kind.data();
-    std::array<const double*, Dim> position;
-    for (int d = 0; d < Dim; ++d) position[d] = p.position[d].data();
-    long part = 0;
-    for (long i = begin; i < end; ++i) {
-      Vec<Dim> x;
-      for (int d = 0; d < Dim; ++d) x[d] = position[d][i];
-      if (kind[i] != Kind::fluid || clear(x)) continue;
-      part += slow(i, x);
-    }
-#pragma omp atomic
-    total += part;
-  });
-  return static_cast<std::size_t>(total);
+long sum_near_solids(const Particles<Dim>& p, long begin, long end, typename SolidReach<Dim>::Lookup clear,
+                     const std::uint8_t* skip, Slow&& slow) {
+  const Kind* const kind = p.kind.data();
+  std::array<const double*, Dim> position;
+  for (int d = 0; d < Dim; ++d) position[d] = p.position[d].data();
+  long part = 0;
+  for (long i = begin; i < end; ++i) {
+    Vec<Dim> x;
+    for (int d = 0; d < Dim; ++d) x[d] = position[d][i];
+    if (kind[i] != Kind::fluid || clear(x) || (skip != nullptr && skip[i])) continue;
+    part += slow(i, x);
+  }
+  return part;
 }
 
 template <int Dim>
@@ -187,48 +180,82 @@ template <int Dim>
 }  // namespace
 
 template <int Dim>
-std::size_t put_back_leaked(Particles<Dim>& p, const Solids<Dim>& solids, double dx, int threads,
-                            const SolidReach<Dim>* near) {
-  const std::vector<Bounded<Dim>> boxes = bounded<Dim>(solids, 0.0);
-  return count_near_solids<Dim>(p, threads, near,
-                                [&](long i, const Vec<Dim>& x) { return put_back_one<Dim>(p, boxes, dx, i, x); });
+WallChecks<Dim>::WallChecks(const Solids<Dim>& solids, double dx, const SolidReach<Dim>* near_cells)
+    : solids_(bounded<Dim>(solids, 0.0)),
+      banded_(bounded<Dim>(solids, 0.25 * dx)),
+      clear_(near_cells != nullptr ? near_cells->lookup() : typename SolidReach<Dim>::Lookup{}),
+      dx_(dx) {
+  if (near_cells != nullptr && !(near_cells->reach() >= 0.25 * dx))
+    throw std::invalid_argument("the wall checks' clear cells reach less than dx/4 from the walls");
+}
+
+template <int Dim>
+long WallChecks<Dim>::put_back(Particles<Dim>& p, long begin, long end, const std::uint8_t* skip) const {
+  return sum_near_solids<Dim>(p, begin, end, clear_, skip,
+                              [&](long i, const Vec<Dim>& x) { return put_back_one<Dim>(p, solids_, dx_, i, x); });
+}
+
+template <int Dim>
+long WallChecks<Dim>::stop_approach(Particles<Dim>& p, long begin, long end,
+                                    const typename Particles<Dim>::template Vector<double>* acceleration,
+                                    double tau) const {
+  std::array<double*, Dim> velocity{};
+  for (int d = 0; d < Dim; ++d) velocity[d] = p.velocity[d].data();
+  return sum_near_solids<Dim>(p, begin, end, clear_, nullptr, [&](long i, const Vec<Dim>& x) {
+    return stop_approach_one<Dim>(velocity, banded_, dx_, 0.25 * dx_, acceleration, tau, true, i, x);
+  });
+}
+
+template <int Dim>
+long WallChecks<Dim>::stop_shift(const Particles<Dim>& p, const std::array<double*, Dim>& shift_velocity, long begin,
+                                 long end) const {
+  return sum_near_solids<Dim>(p, begin, end, clear_, nullptr, [&](long i, const Vec<Dim>& x) {
+    return stop_approach_one<Dim>(shift_velocity, banded_, dx_, 0.25 * dx_, nullptr, 0.0, false, i, x);
+  });
 }
 
 namespace {
 
-// The dx/4 stop of a velocity-like field (the drift's velocity, the shift's) at the walls: of the drift
-// velocity relative to a moving wall (`relative`), of a shift (a displacement through the water) as
-// it is.
-template <int Dim>
-std::size_t stop_approach(Particles<Dim>& p, const std::array<double*, Dim>& velocity, const Solids<Dim>& solids,
-                          double dx, const typename Particles<Dim>::template Vector<double>* acceleration, double tau,
-                          bool relative, int threads, const SolidReach<Dim>* near) {
-  const double band = 0.25 * dx;
-  if (near != nullptr && !(near->reach() >= band))
-    throw std::invalid_argument("stop_wall_approach: the SolidReach's reach is below dx/4");
-  const std::vector<Bounded<Dim>> boxes = bounded<Dim>(solids, band);
-  return count_near_solids<Dim>(p, threads, near, [&](long i, const Vec<Dim>& x) {
-    return stop_approach_one<Dim>(velocity, boxes, dx, band, acceleration, tau, relative, i, x);
+// f(checks, begin, end) over all particles, in chunks on `threads` threads: the sum of its counts.
+template <int Dim, class F>
+std::size_t over_chunks(const Particles<Dim>& p, int threads, F&& f) {
+  long total = 0;
+  parallel::for_chunks(static_cast<long>(p.size()), threads, [&](long begin, long end) {
+    const long part = f(begin, end);
+#pragma omp atomic
+    total += part;
   });
+  return static_cast<std::size_t>(total);
 }
 
 }  // namespace
 
 template <int Dim>
+std::size_t put_back_leaked(Particles<Dim>& p, const Solids<Dim>& solids, double dx, int threads,
+                            const SolidReach<Dim>* near) {
+  const WallChecks<Dim> checks(solids, dx, near);
+  return over_chunks<Dim>(p, threads, [&](long begin, long end) { return checks.put_back(p, begin, end); });
+}
+
+template <int Dim>
 std::size_t stop_wall_approach(Particles<Dim>& p, const Solids<Dim>& solids, double dx,
                                const typename Particles<Dim>::template Vector<double>* acceleration, double tau,
                                int threads, const SolidReach<Dim>* near) {
-  std::array<double*, Dim> velocity{};
-  for (int d = 0; d < Dim; ++d) velocity[d] = p.velocity[d].data();
-  return stop_approach<Dim>(p, velocity, solids, dx, acceleration, tau, true, threads, near);
+  const WallChecks<Dim> checks(solids, dx, near);
+  return over_chunks<Dim>(p, threads,
+                          [&](long begin, long end) { return checks.stop_approach(p, begin, end, acceleration, tau); });
 }
 
 template <int Dim>
 std::size_t stop_shift_approach(Particles<Dim>& p, const std::array<double*, Dim>& shift_velocity,
                                 const Solids<Dim>& solids, double dx, int threads, const SolidReach<Dim>* near) {
-  return stop_approach<Dim>(p, shift_velocity, solids, dx, nullptr, 0.0, false, threads, near);
+  const WallChecks<Dim> checks(solids, dx, near);
+  return over_chunks<Dim>(p, threads,
+                          [&](long begin, long end) { return checks.stop_shift(p, shift_velocity, begin, end); });
 }
 
+template class WallChecks<2>;
+template class WallChecks<3>;
 template class SolidReach<2>;
 template class SolidReach<3>;
 template std::size_t put_back_leaked<2>(Particles<2>&, const Solids<2>&, double, int, const SolidReach<2>*);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "sluice/core/particles.hpp"
+#include "sluice/geometry/near_solids.hpp"
 #include "sluice/geometry/solid.hpp"
 
 namespace sluice {
@@ -106,4 +107,28 @@ std::size_t stop_shift_approach(Particles<Dim>& p, const std::array<double*, Dim
                                 const Solids<Dim>& solids, double dx, int threads = 1,
                                 const SolidReach<Dim>* near = nullptr);
 
+// The put-back and the stops above over a range of particles, for a sweep of the caller's that does
+// more with each block of particles while it is in cache (the leapfrog folds them into its kick and
+// drift and its final kick: solver/solver_impl.hpp). Each does to the particles [begin, end) what the
+// function of the same name does to them, and returns how many it changed. A particle away from every
+// solid (most of the water) is passed over by a test of a few operations; with `near_cells` (its
+// reach at least dx/4), every particle in one of its clear cells is.
+template <int Dim>
+class WallChecks {
+ public:
+  WallChecks(const Solids<Dim>& solids, double dx, const SolidReach<Dim>* near_cells);
+
+  // Less the particles `skip` marks, if given (another process's ghosts, which their owner checks).
+  long put_back(Particles<Dim>& p, long begin, long end, const std::uint8_t* skip = nullptr) const;
+  long stop_approach(Particles<Dim>& p, long begin, long end,
+                     const typename Particles<Dim>::template Vector<double>* acceleration, double tau) const;
+  long stop_shift(const Particles<Dim>& p, const std::array<double*, Dim>& shift_velocity, long begin,
+                  long end) const;
+
+ private:
+  std::vector<near_solids::Bounded<Dim>> solids_;  // their own bounding boxes (the put-back)
+  std::vector<near_solids::Bounded<Dim>> banded_;  // grown by the dx/4 band (the stops)
+  typename SolidReach<Dim>::Lookup clear_;
+  double dx_;
+};
 }  // namespace sluice

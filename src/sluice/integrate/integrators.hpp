@@ -93,53 +93,61 @@ void corrector_update(Particles<Dim>& p, double dt, double wall_density_floor, i
 // and mDBC walls their own densities (their density rate is 0, so the wall keeps the evaluated one).
 // Wall particles keep position and velocity; their density evolves with the floor, as above.
 
-// Stage 1: saves y(n) and a(n), D(n) to the step-start fields (the instability guard's way back;
-// the evaluation's reordering moves them), then kick, drift and predict: the particles hold
+// Stage 1 for particle i: saves y(n) and a(n), D(n) to the step-start fields (the instability guard's
+// way back; the evaluation's reordering moves them), then kick, drift and predict: the particle holds
 // x(n+1), v*, rho*. On entry the rates a(n), D(n) are in acceleration_start and density_rate_start.
+// One particle at a time, for the solver's sweep that does more with each (the wall checks).
+template <int Dim>
+inline void leapfrog_kick_drift_one(Particles<Dim>& p, long i, double dt, double wall_density_floor) {
+  const double half = 0.5 * dt;
+  p.density_start[i] = p.density[i];
+  for (int d = 0; d < Dim; ++d) {
+    p.position_start[d][i] = p.position[d][i];
+    p.velocity_start[d][i] = p.velocity[d][i];
+  }
+  const double rate = p.density_rate_start[i];
+  if (p.is_fluid(static_cast<std::size_t>(i))) {
+    for (int d = 0; d < Dim; ++d) {
+      const double a = p.acceleration_start[d][i];
+      const double v_half = p.velocity[d][i] + half * a;
+      p.position[d][i] += dt * v_half;
+      p.velocity[d][i] = v_half + half * a;
+    }
+    p.density[i] = (p.density[i] + half * rate) + half * rate;
+  } else {
+    const double rho_half = std::max(p.density[i] + half * rate, wall_density_floor);
+    p.density[i] = std::max(rho_half + half * rate, wall_density_floor);
+  }
+}
+
+// Stage 1 for every particle.
 template <int Dim>
 void leapfrog_kick_drift(Particles<Dim>& p, double dt, double wall_density_floor, int threads) {
-  const double half = 0.5 * dt;
   parallel::for_chunks(static_cast<long>(p.size()), threads, [&](long begin, long end) {
-    for (long i = begin; i < end; ++i) {
-      p.density_start[i] = p.density[i];
-      for (int d = 0; d < Dim; ++d) {
-        p.position_start[d][i] = p.position[d][i];
-        p.velocity_start[d][i] = p.velocity[d][i];
-      }
-      const double rate = p.density_rate_start[i];
-      if (p.is_fluid(static_cast<std::size_t>(i))) {
-        for (int d = 0; d < Dim; ++d) {
-          const double a = p.acceleration_start[d][i];
-          const double v_half = p.velocity[d][i] + half * a;
-          p.position[d][i] += dt * v_half;
-          p.velocity[d][i] = v_half + half * a;
-        }
-        p.density[i] = (p.density[i] + half * rate) + half * rate;
-      } else {
-        const double rho_half = std::max(p.density[i] + half * rate, wall_density_floor);
-        p.density[i] = std::max(rho_half + half * rate, wall_density_floor);
-      }
-    }
+    for (long i = begin; i < end; ++i) leapfrog_kick_drift_one(p, i, dt, wall_density_floor);
   });
 }
 
-// Stage 2, with a(n+1), D(n+1) in acceleration and density_rate (evaluated at x(n+1), v*, rho*) and
-// a(n), D(n) in acceleration_start and density_rate_start, in the same (reordered) order:
-// v(n+1) = v* + dt/2 (a(n+1) - a(n)), rho(n+1) = rho* + dt/2 (D(n+1) - D(n)).
+// Stage 2 for particle i, with a(n+1), D(n+1) in acceleration and density_rate (evaluated at x(n+1),
+// v*, rho*) and a(n), D(n) in acceleration_start and density_rate_start, in the same (reordered)
+// order: v(n+1) = v* + dt/2 (a(n+1) - a(n)), rho(n+1) = rho* + dt/2 (D(n+1) - D(n)).
+template <int Dim>
+inline void leapfrog_final_kick_one(Particles<Dim>& p, long i, double dt, double wall_density_floor) {
+  const double half = 0.5 * dt;
+  const double rho = p.density[i] + half * (p.density_rate[i] - p.density_rate_start[i]);
+  if (p.is_fluid(static_cast<std::size_t>(i))) {
+    for (int d = 0; d < Dim; ++d) p.velocity[d][i] += half * (p.acceleration[d][i] - p.acceleration_start[d][i]);
+    p.density[i] = rho;
+  } else {
+    p.density[i] = std::max(rho, wall_density_floor);
+  }
+}
+
+// Stage 2 for every particle.
 template <int Dim>
 void leapfrog_final_kick(Particles<Dim>& p, double dt, double wall_density_floor, int threads) {
-  const double half = 0.5 * dt;
   parallel::for_chunks(static_cast<long>(p.size()), threads, [&](long begin, long end) {
-    for (long i = begin; i < end; ++i) {
-      const double rho = p.density[i] + half * (p.density_rate[i] - p.density_rate_start[i]);
-      if (p.is_fluid(static_cast<std::size_t>(i))) {
-        for (int d = 0; d < Dim; ++d)
-          p.velocity[d][i] += half * (p.acceleration[d][i] - p.acceleration_start[d][i]);
-        p.density[i] = rho;
-      } else {
-        p.density[i] = std::max(rho, wall_density_floor);
-      }
-    }
+    for (long i = begin; i < end; ++i) leapfrog_final_kick_one(p, i, dt, wall_density_floor);
   });
 }
 

@@ -47,19 +47,24 @@ struct DampingZone {
   }
 };
 
+// The zone applied to the water among the particles [begin, end) over a step dt.
+template <int Dim>
+void damp(Particles<Dim>& p, const DampingZone<Dim>& zone, double dt, long begin, long end) {
+  for (long k = begin; k < end; ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    if (!p.is_fluid(i)) continue;
+    Vec<Dim> x{};
+    for (int d = 0; d < Dim; ++d) x[d] = p.position[d][i];
+    const double f = zone.factor(x, dt);
+    for (int d = 0; d < Dim; ++d) p.velocity[d][i] *= f;
+  }
+}
+
 // The zone applied to the first `owned` particles' water over a step dt.
 template <int Dim>
 void apply_damping(Particles<Dim>& p, std::size_t owned, const DampingZone<Dim>& zone, double dt, int threads) {
-  parallel::for_chunks(static_cast<long>(owned), threads, [&](long begin, long end) {
-    for (long k = begin; k < end; ++k) {
-      const auto i = static_cast<std::size_t>(k);
-      if (!p.is_fluid(i)) continue;
-      Vec<Dim> x{};
-      for (int d = 0; d < Dim; ++d) x[d] = p.position[d][i];
-      const double f = zone.factor(x, dt);
-      for (int d = 0; d < Dim; ++d) p.velocity[d][i] *= f;
-    }
-  });
+  parallel::for_chunks(static_cast<long>(owned), threads,
+                       [&](long begin, long end) { damp(p, zone, dt, begin, end); });
 }
 
 }  // namespace sluice

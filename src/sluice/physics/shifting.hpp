@@ -78,14 +78,15 @@ class ParticleShifting {
 
   // x_i += dt s_i for every fluid particle (wall particles have s_i = 0).
   void apply(Particles<Dim>& p, double dt, int threads) const {
-    const long n = static_cast<long>(p.size());
-    parallel::for_chunks(n, threads, [&](long begin, long end) {
-      for (int d = 0; d < Dim; ++d) {
-        double* __restrict x = p.position[d].data();
-        const double* __restrict s = sums_[Dim + d].data();
-        for (long i = begin; i < end; ++i) x[i] += dt * s[i];
-      }
-    });
+    parallel::for_chunks(static_cast<long>(p.size()), threads, [&](long begin, long end) { apply(p, dt, begin, end); });
+  }
+  // The same for the particles [begin, end).
+  void apply(Particles<Dim>& p, double dt, long begin, long end) const {
+    for (int d = 0; d < Dim; ++d) {
+      double* __restrict x = p.position[d].data();
+      const double* __restrict s = sums_[Dim + d].data();
+      for (long i = begin; i < end; ++i) x[i] += dt * s[i];
+    }
   }
 
   // After compute(), per particle: the zone, div r, and grad C (the surface normal's opposite).

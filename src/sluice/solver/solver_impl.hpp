@@ -291,9 +291,10 @@ RateSummary Solver<Dim>::evaluate(bool shepard_due, unsigned also_moved, bool la
   const int pair_threads = static_cast<long>(particles_.size()) >= parallel::pair_loop_threshold ? threads_ : 1;
   if (dist) dist->reordered(grid_.order());
   grid_binned_ = true;
-  const std::uint8_t* const repair = particles_.needs_density_repair.data();
-  bool repair_due = parallel::count<long>(static_cast<long>(particles_.needs_density_repair.size()), threads_,
-                                          [&](long i) -> long { return repair[i] != 0; }) > 0;
+  // One thread: an OR over a byte a particle is quicker than starting the others.
+  std::uint8_t any_repair = 0;
+  for (const std::uint8_t r : particles_.needs_density_repair) any_repair |= r;
+  bool repair_due = any_repair != 0;
   if (dist) repair_due = reducer_->sum(static_cast<std::int64_t>(repair_due)) > 0;
   if (shepard_due || repair_due) {
     // The density rates are recomputed below: until then their array is the filter's scratch.
@@ -409,6 +410,7 @@ std::size_t Solver<Dim>::set_fluid_velocities(std::span<const std::uint32_t> ids
     ++set;
   }
   clock_.rates_carried = false;
+  swept_unhealthy_.reset();
   return set;
 }
 
@@ -444,6 +446,7 @@ template <int Dim>
 void Solver<Dim>::step(double time_limit) {
   const bool shepard_due = case_.shepard_every > 0 && clock_.step > 0 && clock_.step % case_.shepard_every == 0;
   has_saved_state_ = false;
+  swept_unhealthy_.reset();
   if (case_.integrator == Integrator::leapfrog) {
     leapfrog_step(time_limit, shepard_due);
     return;
@@ -497,21 +500,36 @@ void Solver<Dim>::leapfrog_step(double time_limit, bool shepard_due) {
   saved_clock_ = clock_;
   const StepSize size = step_size(clock_.rates, time_limit);
   const double dt = size.dt;
-  const double floor = settings_.eos.rest_density;
   Particles<Dim>& p = particles_;
   // a(n), D(n) to the step-start fields, where the evaluation's reordering moves them with y(n).
   std::swap(p.acceleration, p.acceleration_start);
   std::swap(p.density_rate, p.density_rate_start);
-  stop_wall_approach_before_drift(&p.acceleration_start, 0.5 * dt);
-  leapfrog_kick_drift(p, dt, floor, threads_);
+  kick_drift_sweep(dt);
   bodies_.each_floating([&](auto& body) { body.floating.kick_drift(dt); });
   advance_walls(size.end(clock_.time, time_limit));
   has_saved_state_ = true;
   clock_.rates = global(evaluate(shepard_due, field_role::step_start | field_role::rates_start, true));
   load_floating();
-  leapfrog_final_kick(p, dt, floor, threads_);
   bodies_.each_floating([&](auto& body) { body.floating.final_kick(dt); });
-  finish_step(size, time_limit);
+  finish_step(size, time_limit, true);
+}
+
+// The leapfrog's stage 1 (integrate/integrators.hpp), each particle's drift velocity first stopped
+// short of the walls (physics.wall_no_penetration), with the half kick a(n) dt/2 the drift adds: block
+// by block (sweep_block), each stage a loop over a block still in cache from the one before.
+template <int Dim>
+void Solver<Dim>::kick_drift_sweep(double dt) {
+  Particles<Dim>& p = particles_;
+  const double floor = settings_.eos.rest_density;
+  const bool stop = case_.wall_no_penetration;
+  const WallChecks<Dim> checks(solids_, case_.dx, &solid_reach_);
+  parallel::for_chunks(static_cast<long>(p.size()), threads_, [&](long first, long last) {
+    for (long begin = first; begin < last; begin += sweep_block) {
+      const long end = std::min(last, begin + sweep_block);
+      if (stop) checks.stop_approach(p, begin, end, &p.acceleration_start, 0.5 * dt);
+      for (long i = begin; i < end; ++i) leapfrog_kick_drift_one(p, i, dt, floor);
+    }
+  });
 }
 
 // physics.wall_no_penetration: the velocity that moves the water next stops short of the walls
@@ -522,28 +540,75 @@ void Solver<Dim>::stop_wall_approach_before_drift(const typename Particles<Dim>:
   if (case_.wall_no_penetration) stop_wall_approach(particles_, solids_, case_.dx, acceleration, tau, threads_, &solid_reach_);
 }
 
-// What follows every integrator's update: the particle shift, the put-back of leaked particles, the clock.
+// What follows every integrator's update: the leapfrog's final kick (`final_kick`), the damping zone,
+// the particle shift, the put-back of leaked particles, the outflow, the clock. The instability
+// guard's count of the particles the step leaves is taken in the same sweep.
 template <int Dim>
-void Solver<Dim>::finish_step(const StepSize& size, double time_limit) {
+void Solver<Dim>::finish_step(const StepSize& size, double time_limit, bool final_kick) {
   const double dt = size.dt;
-  if (case_.damps()) apply_damping(particles_, particles_.owned(), DampingZone<Dim>::of(case_), dt, threads_);
-  if (shifting_.coefficient > 0.0) {
-    if (case_.wall_no_penetration)
-      stop_shift_approach<Dim>(particles_, shift_.shift_velocity_data(), solids_, case_.dx, threads_, &solid_reach_);
-    shift_.apply(particles_, dt, threads_);
-  }
+  const SweepCounts counts = sweep_after_update(dt, final_kick);
   strip_ghosts();
-  const auto leaked = static_cast<std::int64_t>(put_back_leaked(particles_, solids_, case_.dx, threads_, &solid_reach_));
-  clock_.leaks += leaked;
-  clock_.outflow += remove_outflow();
+  clock_.leaks += counts.leaked;
+  clock_.outflow += remove_outflow(counts.leaving);
   // A put-back particle moved (and its density is repaired at the next evaluation): the carried
   // rates are no longer those of the state. Every process decides alike.
-  if (clock_.rates_carried && reducer_->sum(leaked) > 0) clock_.rates_carried = false;
+  if (clock_.rates_carried && reducer_->sum(counts.leaked) > 0) clock_.rates_carried = false;
   clock_.time = size.end(clock_.time, time_limit);
   clock_.last_dt = dt;
   ++clock_.step;
   clock_.floating = bodies_.floating_state();
   absorb();
+  // The absorbing pistons' walls moved after the sweep: the guard looks at them again.
+  if (!bodies_.absorbs()) swept_unhealthy_ = counts.unhealthy;
+}
+
+// The stages in turn on each block of particles (sweep_block): the final kick, the damping, the
+// shift (stopped short of the walls), the put-back, then whether each particle leaves an open tank
+// and, if it stays, whether the guard would stop the run for it. Every stage is each particle's own,
+// so the sweep gives what the stages would one after the other over all particles, with the
+// particles read from memory once. A ghost (another process's particle, stripped after the sweep) is
+// updated like the others but not put back or counted.
+template <int Dim>
+typename Solver<Dim>::SweepCounts Solver<Dim>::sweep_after_update(double dt, bool final_kick) {
+  Particles<Dim>& p = particles_;
+  const double floor = settings_.eos.rest_density;
+  const bool damps = case_.damps(), shifts = shifting_.coefficient > 0.0;
+  const bool stop_shift = shifts && case_.wall_no_penetration, open = !case_.tank_lid;
+  const DampingZone<Dim> zone = damps ? DampingZone<Dim>::of(case_) : DampingZone<Dim>{};
+  const WallChecks<Dim> checks(solids_, case_.dx, &solid_reach_);
+  const std::array<double*, Dim> shift = shifts ? shift_.shift_velocity_data() : std::array<double*, Dim>{};
+  const std::uint8_t* ghost =
+      distribution_ && distribution_->has_ghosts() ? distribution_->ghost_mask().data() : nullptr;
+  const Reach r = reach();
+  SweepCounts total;
+  parallel::for_chunks(static_cast<long>(p.size()), threads_, [&](long first, long last) {
+    SweepCounts part;
+    for (long begin = first; begin < last; begin += sweep_block) {
+      const long end = std::min(last, begin + sweep_block);
+      if (final_kick)
+        for (long i = begin; i < end; ++i) leapfrog_final_kick_one(p, i, dt, floor);
+      if (damps) damp(p, zone, dt, begin, end);
+      if (shifts) {
+        if (stop_shift) checks.stop_shift(p, shift, begin, end);
+        shift_.apply(p, dt, begin, end);
+      }
+      part.leaked += checks.put_back(p, begin, end, ghost);
+      for (long i = begin; i < end; ++i) {
+        const auto k = static_cast<std::size_t>(i);
+        const bool counted = ghost == nullptr || !ghost[i];
+        const bool gone = open & leaves(k, r);
+        part.leaving += counted & gone;
+        part.unhealthy += counted & !gone & !healthy(k, r);
+      }
+    }
+#pragma omp atomic
+    total.leaked += part.leaked;
+#pragma omp atomic
+    total.leaving += part.leaving;
+#pragma omp atomic
+    total.unhealthy += part.unhealthy;
+  });
+  return total;
 }
 
 // The floating bodies take the water's force and moment on their particles in the state just
@@ -581,27 +646,17 @@ void Solver<Dim>::absorb() {
 // cell grid no longer hold after the compaction: for_each_range_in_box scans everything until the
 // next evaluation bins again.
 template <int Dim>
-std::int64_t Solver<Dim>::remove_outflow() {
+std::int64_t Solver<Dim>::remove_outflow(std::int64_t leaving_here) {
   if (case_.tank_lid) return 0;
-  const std::size_t n = particles_.size();
-  const Reach r = reach();
-  // A particle that is not finite is the guard's (check_health), not outflow.
-  const auto leaves = [&](std::size_t i) -> bool {
-    bool finite = true;
-    for (int d = 0; d < Dim; ++d) finite = finite & (std::abs(particles_.position[d][i]) <= kLargest);
-    return particles_.is_fluid(i) & finite & !within_walls(i, r);
-  };
-  // Counted first, a pass that writes nothing (in most steps nothing leaves); marked only then.
-  const auto here = parallel::count<std::int64_t>(static_cast<long>(n), threads_, [&](long k) -> std::int64_t {
-    return leaves(static_cast<std::size_t>(k));
-  });
-  if (here > 0) {
+  if (leaving_here > 0) {
+    const Reach r = reach();
+    const std::size_t n = particles_.size();
     std::vector<std::uint8_t> gone(n, 0);
-    for (std::size_t i = 0; i < n; ++i) gone[i] = leaves(i);
+    for (std::size_t i = 0; i < n; ++i) gone[i] = leaves(i, r);
     particles_.erase(gone);
     grid_binned_ = false;
   }
-  return reducer_->sum(here);
+  return reducer_->sum(leaving_here);
 }
 
 template <int Dim>
@@ -707,18 +762,6 @@ Health Solver<Dim>::check_health(std::size_t max_reported) const {
   const Particles<Dim>& p = particles_;
   const double rho0 = settings_.eos.rest_density;
   const Reach r = reach();
-  // The test of every particle at every step, branch-free (`problem` below says the same of each,
-  // in words, for the few it reports): a density or position that is not finite fails its range,
-  // a velocity that is not finite its bound.
-  auto healthy = [&](std::size_t i) {
-    const double rho = p.density[i];
-    // A wall particle is where its wall is (a moving one may rise out of an open tank): finite is enough.
-    bool placed = !p.is_fluid(i);
-    for (int d = 0; d < Dim; ++d) placed = placed & (std::abs(p.position[d][i]) <= kLargest);
-    bool ok = (rho > 0.5 * rho0) & (rho < 2.0 * rho0) & (in_reach(i, r) | placed);
-    for (int d = 0; d < Dim; ++d) ok = ok & (std::abs(p.velocity[d][i]) <= kLargest);
-    return ok;
-  };
   auto problem = [&](std::size_t i) -> const char* {
     bool finite = std::isfinite(p.density[i]);
     for (int d = 0; d < Dim; ++d) finite = finite && std::isfinite(p.position[d][i]) && std::isfinite(p.velocity[d][i]);
@@ -729,8 +772,10 @@ Health Solver<Dim>::check_health(std::size_t max_reported) const {
     return nullptr;
   };
   const long n = static_cast<long>(p.owned());
-  const std::int64_t bad = reducer_->sum(parallel::count<std::int64_t>(
-      n, threads_, [&](long i) -> std::int64_t { return healthy(static_cast<std::size_t>(i)) ? 0 : 1; }));
+  const std::int64_t bad = reducer_->sum(
+      swept_unhealthy_ ? *swept_unhealthy_ : parallel::count<std::int64_t>(n, threads_, [&](long i) -> std::int64_t {
+        return healthy(static_cast<std::size_t>(i), r) ? 0 : 1;
+      }));
   Health health;
   health.offending = static_cast<std::size_t>(bad);
   // A moving wall is placed by its law, the same on every process; one the set-up's samples of its
@@ -775,6 +820,7 @@ Health Solver<Dim>::check_health(std::size_t max_reported) const {
 template <int Dim>
 void Solver<Dim>::restore_saved_state() {
   strip_ghosts();
+  swept_unhealthy_.reset();
   if (!has_saved_state_) return;
   Particles<Dim>& p = particles_;
   p.position = p.position_start;
