@@ -195,6 +195,26 @@ TEST(Leaks, AParticleInsideAWallIsPutBackWithItsNormalVelocityReversed) {
   EXPECT_EQ(put_back_leaked(p, solids, dx), 0u);
 }
 
+// The checks over a range of particles (the solver's sweeps): only the range is touched, and a
+// particle the skip mask marks (another process's ghost) is left to its owner.
+TEST(Leaks, TheRangeChecksTouchOnlyTheirRangeAndSkipTheMarked) {
+  Particles<2> p;
+  for (int k = 0; k < 4; ++k) p.add({0.2 + 0.2 * k, -0.03}, Kind::fluid, 1000.0);  // all 3 cm into the floor
+  const Solids<2> solids = {std::make_shared<Polygon>(Polygon::box({-0.3, -0.3}, {2.3, 0.0}))};
+  const double dx = 0.1;
+  const WallChecks<2> checks(solids, dx, nullptr);
+  const std::vector<std::uint8_t> ghost = {0, 1, 0, 0};
+  EXPECT_EQ(checks.put_back(p, 0, 3, ghost.data()), 2);  // particles 0 and 2; 1 is skipped, 3 outside
+  EXPECT_NEAR(p.position[1][0], 0.5 * dx, 1e-12);
+  EXPECT_EQ(p.position[1][1], -0.03);
+  EXPECT_NEAR(p.position[1][2], 0.5 * dx, 1e-12);
+  EXPECT_EQ(p.position[1][3], -0.03);
+  EXPECT_EQ(checks.put_back(p, 0, 4), 2);  // the rest, without a mask
+  // A reach short of the dx/4 band cannot tell which particles the stops may skip.
+  const SolidReach<2> short_reach(solids, {-0.5, -0.5}, {2.5, 1.0}, 0.2, 0.01);
+  EXPECT_THROW(WallChecks<2>(solids, dx, &short_reach), std::invalid_argument);
+}
+
 TEST(Solids, BoxesSayTheyAreBoxes) {
   EXPECT_TRUE(Polygon::box({0.0, 0.0}, {1.0, 2.0}).is_box());
   EXPECT_TRUE(Polygon({{1.0, 2.0}, {0.0, 2.0}, {0.0, 0.0}, {1.0, 0.0}}).is_box());  // clockwise
